@@ -1,0 +1,109 @@
+// `whitted render`: load, check outputs, render with progress, write files.
+#include "app/commands.h"
+#include "app/progress_bar.h"
+#include "io/image_io.h"
+#include "io/render_record.h"
+#include "render/renderer.h"
+#include "scene/scene_loader.h"
+#include "vk/context.h"
+
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+namespace whitted {
+namespace {
+
+// Refuses an output the image writer can't produce before any work is done.
+std::optional<std::string> checkOutput(const std::filesystem::path& path) {
+    std::filesystem::path parent = path.parent_path().empty() ? "." : path.parent_path();
+    if (!std::filesystem::is_directory(parent)) return "output folder " + parent.string() + " does not exist";
+    if (std::filesystem::is_directory(path)) return "output " + path.string() + " is a folder, expected an image file";
+    if (!isWritableFormat(path))
+        return "cannot write images of type '" + path.extension().string() + "' (use .png, .exr, .jpg or .tif)";
+    return std::nullopt;
+}
+
+std::string tonemapName(Tonemap t) { return t == Tonemap::Seed ? "seed" : "clamp"; }
+
+}  // namespace
+
+int runRenderCommand(const RenderCommandOptions& options) {
+    // Everything that can be refused is refused before the device starts.
+    std::vector<std::string> aovs;
+    try {
+        aovs = parseAovList(options.aovs);
+    } catch (const std::invalid_argument& e) {
+        std::cerr << "whitted: --aov: " << e.what() << " (see whitted render --help)\n";
+        return kExitBadInput;
+    }
+    Scene scene;
+    try {
+        scene = loadScene(options.scene);
+    } catch (const SceneError& e) {
+        std::cerr << e.what() << "\n";
+        return kExitBadInput;
+    }
+    for (const std::string& warning : scene.warnings) std::cerr << "warning: " << warning << "\n";
+    if (options.output)
+        if (auto problem = checkOutput(*options.output)) {
+            std::cerr << "whitted: " << *problem << "\n";
+            return kExitBadInput;
+        }
+
+    RenderSettings settings = options.settings;
+    settings.auxiliary = !aovs.empty();
+    VulkanContext ctx({.validation = options.validation, .deviceName = options.device});
+    if (!options.quiet)
+        std::cerr << "whitted: device " << ctx.deviceInfo().name << " (" << ctx.deviceInfo().type << ", "
+                  << ctx.deviceInfo().driver << ")\n";
+
+    Renderer renderer(ctx, scene, settings);
+    ProgressBar bar("rendering", !options.quiet);
+    RenderResult result = renderer.render([&](double f) { bar.update(f); });
+    bar.finish();
+    if (uint32_t n = ctx.validationMessageCount()) {
+        std::cerr << "whitted: the Vulkan validation layer reported " << n << " message(s); no image written\n";
+        return kExitValidation;
+    }
+
+    // Write: either exactly where -o says, or a new history folder.
+    std::vector<std::filesystem::path> files;
+    std::filesystem::path shown;
+    if (options.output) {
+        files = writeRenderImages(result, *options.output, aovs, options.tonemap);
+        shown = *options.output;
+    } else {
+        std::filesystem::path staging = beginHistoryFolder(options.historyRoot);
+        try {
+            files = writeRenderImages(result, staging / "image.png", aovs, options.tonemap);
+            std::filesystem::copy_file(options.scene, staging / "scene.xml");
+            files.push_back(staging / "scene.xml");
+            RenderRecord record{.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
+                                .device = ctx.deviceInfo(), .result = &result, .files = files};
+            writeTextFile(staging / "render.json", renderRecordJson(record));
+        } catch (...) {
+            std::filesystem::remove_all(staging);
+            throw;
+        }
+        shown = commitHistoryFolder(staging, options.historyRoot);
+    }
+
+    if (!options.quiet) {
+        double mrays = double(result.rays.total()) / std::max(result.renderSeconds, 1e-9) / 1e6;
+        std::fprintf(stderr, "whitted: wrote %s (%dx%d, %d spp, %zu auxiliary) in %.2f s, %.1f Mrays/s\n",
+                     shown.string().c_str(), result.width, result.height, result.samplesPerPixel, aovs.size(),
+                     result.renderSeconds, mrays);
+    }
+    return kExitOk;
+}
+
+int runDevicesCommand() {
+    for (const DeviceInfo& d : VulkanContext::listDevices())
+        std::printf("%u: %s (%s, %s, Vulkan %u.%u)%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driver.c_str(),
+                    VK_API_VERSION_MAJOR(d.apiVersion), VK_API_VERSION_MINOR(d.apiVersion),
+                    d.suitable ? "" : " [unsuitable: needs Vulkan 1.2 with compute]");
+    return kExitOk;
+}
+
+}  // namespace whitted

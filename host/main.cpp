@@ -1,0 +1,62 @@
+// whitted: command line. Parses arguments and hands over to host/app.
+#include "app/commands.h"
+#include "device_types.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdlib>
+#include <iostream>
+
+int main(int argc, char** argv) {
+    using namespace whitted;
+    CLI::App app{"whitted: a Whitted-style ray tracer on Vulkan compute"};
+    app.set_version_flag("--version", std::string("whitted ") + WHITTED_VERSION);
+    app.require_subcommand(1);
+
+    RenderCommandOptions render;
+    std::string output;
+    std::string tonemap = "clamp";
+    auto* renderCmd = app.add_subcommand("render", "render a scene file to images");
+    renderCmd->add_option("scene", render.scene, "scene XML file")->required();
+    renderCmd->add_option("-o,--output", output,
+                          "image to write (.png, .exr, ...); auxiliary images go beside it. "
+                          "Default: a new folder under renders/");
+    renderCmd->add_option("--width", render.settings.width, "image width in pixels [scene's]")->check(CLI::Range(1, 16384));
+    renderCmd->add_option("--height", render.settings.height, "image height in pixels [scene's]")->check(CLI::Range(1, 16384));
+    renderCmd->add_option("--spp", render.settings.samplesPerPixel, "samples per pixel, stratified")
+        ->check(CLI::Range(1, 65536))->capture_default_str();
+    renderCmd->add_option("--max-depth", render.settings.maxDepth, "secondary bounces; 0 = local shading only")
+        ->check(CLI::Range(0, int(gpu::kMaxDepthLimit)))->capture_default_str();
+    renderCmd->add_option("--aov", render.aovs,
+                          "auxiliary images: all, none, or a list of ambient,diffuse,specular,reflection,"
+                          "transmission,ambient_coef,diffuse_coef,specular_coef,reflection_coef,"
+                          "transmission_coef,ior,depth,normal")->capture_default_str();
+    renderCmd->add_option("--tonemap", tonemap, "clamp (sRGB) or seed (min-max normalisation, gamma 0.667)")
+        ->check(CLI::IsMember({"clamp", "seed"}))->capture_default_str();
+    renderCmd->add_option("--device", render.device, "Vulkan device index or name substring [best available]");
+    renderCmd->add_flag("--validate", render.validation, "enable the Khronos validation layer; fail on any message");
+    renderCmd->add_flag("-q,--quiet", render.quiet, "no progress or summary");
+
+    app.add_subcommand("devices", "list the Vulkan devices");
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        int status = app.exit(e);
+        return status == 0 ? kExitOk : kExitBadInput;
+    }
+
+    try {
+        if (renderCmd->parsed()) {
+            if (!output.empty()) render.output = output;
+            render.tonemap = tonemap == "seed" ? Tonemap::Seed : Tonemap::Clamp;
+            if (const char* v = std::getenv("WHITTED_VALIDATION"); v && *v && std::string(v) != "0")
+                render.validation = true;
+            return runRenderCommand(render);
+        }
+        return runDevicesCommand();
+    } catch (const std::exception& e) {
+        std::cerr << "whitted: " << e.what() << "\n";
+        return kExitFailure;
+    }
+}

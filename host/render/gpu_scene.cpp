@@ -1,0 +1,66 @@
+#include "render/gpu_scene.h"
+
+#include "shapes/shapes.h"
+
+#include <cmath>
+#include <cstddef>
+
+namespace whitted {
+
+// The GLSL side reads these with std430 (storage) and std140 (uniform)
+// rules; vec4-only members make both match the C++ layout.
+static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, info) == 48);
+static_assert(sizeof(gpu::Material) == 64 && offsetof(gpu::Material, coefs1) == 48);
+static_assert(sizeof(gpu::Light) == 32);
+static_assert(sizeof(gpu::FrameParams) == 112 && offsetof(gpu::FrameParams, sizes) == 80);
+static_assert(sizeof(gpu::TileParams) == 32);
+static_assert(sizeof(gpu::RayCounters) == 16);
+
+namespace {
+
+gpu::Material packMaterial(const Material& m) {
+    return {.diffuse = glm::vec4(glm::vec3(m.diffuseColor), 1.0f),
+            .specular = glm::vec4(glm::vec3(m.specularColor), 1.0f),
+            .coefs0 = glm::vec4(float(m.ambient), float(m.diffuse), float(m.specular), float(m.shininess)),
+            .coefs1 = glm::vec4(float(m.reflection), float(m.transmission), float(m.ior), 0.0f)};
+}
+
+// Camera frame: image right = cross(forward, up), right and up scaled to the
+// half extents of the window at unit distance.
+void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p) {
+    glm::dvec3 forward = glm::normalize(camera.windowCenter - camera.eye);
+    glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
+    glm::dvec3 up = glm::cross(right, forward);
+    double tanHalf = std::tan(glm::radians(camera.verticalFovDegrees) / 2.0);
+    double aspect = double(width) / double(height);
+    p.eye = glm::vec4(glm::vec3(camera.eye), 1.0f);
+    p.forward = glm::vec4(glm::vec3(forward), 0.0f);
+    p.right = glm::vec4(glm::vec3(right * tanHalf * aspect), 0.0f);
+    p.up = glm::vec4(glm::vec3(up * tanHalf), 0.0f);
+}
+
+}  // namespace
+
+GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
+    GpuScene g;
+    g.width = settings.width > 0 ? settings.width : scene.camera.width;
+    g.height = settings.height > 0 ? settings.height : scene.camera.height;
+
+    for (const Object& object : scene.objects) {
+        uint32_t material = uint32_t(g.materials.size());
+        g.materials.push_back(packMaterial(object.material));
+        appendPrimitives(object.shape, material, g.primitives);
+    }
+    for (const PointLight& light : scene.lights)
+        g.lights.push_back({.position = glm::vec4(glm::vec3(light.position), 1.0f),
+                            .color = glm::vec4(glm::vec3(light.color), 1.0f)});
+
+    packCamera(scene.camera, g.width, g.height, g.params);
+    g.params.ambientLight = glm::vec4(glm::vec3(scene.ambientLight), 0.0f);
+    g.params.sizes = glm::uvec4(g.width, g.height, g.primitives.size(), g.lights.size());
+    g.params.options = glm::uvec4(settings.samplesPerPixel, settings.maxDepth,
+                                  settings.auxiliary ? gpu::kOptionWriteAovs : 0u, settings.seed);
+    return g;
+}
+
+}  // namespace whitted

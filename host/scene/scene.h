@@ -1,0 +1,98 @@
+// The CPU scene model: what the XML loader produces and what the renderer
+// uploads. Plain data, world space, right-handed, no GPU types.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <filesystem>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace whitted {
+
+// Pinhole camera. The image plane ("window") is centred on windowCenter and
+// perpendicular to forward = windowCenter - eye. Image right is
+// cross(forward, up); image up completes the right-handed frame.
+struct Camera {
+    glm::dvec3 eye{0, 0, 0};
+    glm::dvec3 windowCenter{0, 0, -1};
+    glm::dvec3 up{0, 1, 0};
+    double verticalFovDegrees = 60.0;
+    int width = 640;
+    int height = 480;
+};
+
+struct PointLight {
+    glm::dvec3 position{0, 0, 0};
+    glm::dvec3 color{1, 1, 1};  // linear RGB radiant intensity, no falloff
+};
+
+// Phong + Whitted material (see README "Shading model").
+struct Material {
+    glm::dvec3 diffuseColor{1, 1, 1};   // Cd
+    glm::dvec3 specularColor{1, 1, 1};  // Cs
+    double ambient = 0.0;               // ka ("ambiente_coef")
+    double diffuse = 1.0;               // kd
+    double specular = 0.0;              // ks
+    double shininess = 32.0;            // Phong exponent
+    double reflection = 0.0;            // kr (defaults to ks when reflective)
+    double transmission = 0.0;          // kt
+    double ior = 1.0;                   // index of refraction against air
+};
+
+struct Sphere {
+    glm::dvec3 center;
+    double radius;
+};
+
+// Capped cylinder: base is the centre of the bottom cap, it extends `height`
+// along the unit vector `axis`.
+struct Cylinder {
+    glm::dvec3 base;
+    glm::dvec3 axis;
+    double radius;
+    double height;
+};
+
+// Infinite two-sided plane through `point`.
+struct Plane {
+    glm::dvec3 point;
+    glm::dvec3 normal;  // unit length
+};
+
+// Two-sided triangle, world-space vertices. Its geometric normal follows the
+// winding: normalize(cross(v1 - v0, v2 - v0)).
+struct Triangle {
+    glm::dvec3 v0, v1, v2;
+};
+
+// Axis-aligned box.
+struct Box {
+    glm::dvec3 min;
+    glm::dvec3 max;
+};
+
+// A triangle mesh, world-space vertices (the loader adds the object position).
+struct Mesh {
+    std::vector<Triangle> triangles;
+};
+
+using Shape = std::variant<Sphere, Cylinder, Plane, Triangle, Box, Mesh>;
+
+struct Object {
+    Shape shape;
+    Material material;
+    int sourceLine = 0;  // line of the <object> element, for messages
+};
+
+struct Scene {
+    std::filesystem::path sourcePath;
+    Camera camera;
+    glm::dvec3 ambientLight{1, 1, 1};  // A
+    std::vector<PointLight> lights;
+    std::vector<Object> objects;
+    std::vector<std::string> warnings;  // degenerate but legal input
+};
+
+}  // namespace whitted

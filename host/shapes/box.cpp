@@ -1,0 +1,13 @@
+// Axis-aligned box: intersected by intersectBox() in shaders/shapes/box.glsl.
+#include "shapes/shapes.h"
+
+namespace whitted {
+
+gpu::Primitive packBox(const Box& b, uint32_t material) {
+    return {.a = glm::vec4(glm::vec3(b.min), 0.0f),
+            .b = glm::vec4(glm::vec3(b.max), 0.0f),
+            .c = glm::vec4(0),
+            .info = glm::uvec4(gpu::kShapeBox, material, 0, 0)};
+}
+
+}  // namespace whitted

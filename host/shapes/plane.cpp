@@ -1,0 +1,13 @@
+// Infinite plane: intersected by intersectPlane() in shaders/shapes/plane.glsl.
+#include "shapes/shapes.h"
+
+namespace whitted {
+
+gpu::Primitive packPlane(const Plane& p, uint32_t material) {
+    return {.a = glm::vec4(glm::vec3(p.point), 0.0f),
+            .b = glm::vec4(glm::vec3(glm::normalize(p.normal)), 0.0f),
+            .c = glm::vec4(0),
+            .info = glm::uvec4(gpu::kShapePlane, material, 0, 0)};
+}
+
+}  // namespace whitted

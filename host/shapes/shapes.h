@@ -1,0 +1,22 @@
+// Host side of every shape: how a CPU shape becomes GPU primitives.
+// One file per shape (sphere.cpp, cylinder.cpp, ...), matching one
+// intersection function per shape in shaders/shapes/.
+#pragma once
+
+#include "device_types.h"
+#include "scene/scene.h"
+
+#include <vector>
+
+namespace whitted {
+
+gpu::Primitive packSphere(const Sphere& sphere, uint32_t material);
+gpu::Primitive packCylinder(const Cylinder& cylinder, uint32_t material);
+gpu::Primitive packPlane(const Plane& plane, uint32_t material);
+gpu::Primitive packTriangle(const Triangle& triangle, uint32_t material);
+gpu::Primitive packBox(const Box& box, uint32_t material);
+
+// Appends the primitives of any shape (a mesh becomes one triangle each).
+void appendPrimitives(const Shape& shape, uint32_t material, std::vector<gpu::Primitive>& out);
+
+}  // namespace whitted

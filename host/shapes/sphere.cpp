@@ -1,0 +1,13 @@
+// Sphere: intersected by intersectSphere() in shaders/shapes/sphere.glsl.
+#include "shapes/shapes.h"
+
+namespace whitted {
+
+gpu::Primitive packSphere(const Sphere& s, uint32_t material) {
+    return {.a = glm::vec4(glm::vec3(s.center), float(s.radius)),
+            .b = glm::vec4(0),
+            .c = glm::vec4(0),
+            .info = glm::uvec4(gpu::kShapeSphere, material, 0, 0)};
+}
+
+}  // namespace whitted

@@ -1,0 +1,27 @@
+// Buffers and their memory: device-local storage with staged upload and
+// read-back, and host-visible staging memory.
+#pragma once
+
+#include "vk/context.h"
+
+namespace whitted {
+
+struct Buffer {
+    vk::raii::Buffer buffer{nullptr};
+    vk::raii::DeviceMemory memory{nullptr};
+    vk::DeviceSize size = 0;
+    void* mapped = nullptr;  // non-null for host-visible buffers
+};
+
+// A buffer in memory with `properties`; host-visible memory is mapped.
+Buffer createBuffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage,
+                    vk::MemoryPropertyFlags properties);
+
+// A device-local buffer filled with `size` bytes of `data` through a staging
+// buffer (data may be null for a zero-filled buffer).
+Buffer createDeviceBuffer(VulkanContext& ctx, const void* data, vk::DeviceSize size, vk::BufferUsageFlags usage);
+
+// Copies `size` bytes of a device buffer back into host memory.
+void readBuffer(VulkanContext& ctx, const Buffer& source, void* destination, vk::DeviceSize size);
+
+}  // namespace whitted

@@ -1,0 +1,34 @@
+#include "vk/compute_pipeline.h"
+
+#include <vector>
+
+namespace whitted {
+
+ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv,
+                                      std::span<const vk::DescriptorType> bindings, uint32_t pushConstantSize) {
+    ComputePipeline p;
+    std::vector<vk::DescriptorSetLayoutBinding> layoutBindings;
+    for (uint32_t i = 0; i < bindings.size(); ++i)
+        layoutBindings.push_back({.binding = i, .descriptorType = bindings[i], .descriptorCount = 1,
+                                  .stageFlags = vk::ShaderStageFlagBits::eCompute});
+    p.setLayout = vk::raii::DescriptorSetLayout(
+        ctx.device, vk::DescriptorSetLayoutCreateInfo{.bindingCount = uint32_t(layoutBindings.size()),
+                                                      .pBindings = layoutBindings.data()});
+
+    vk::PushConstantRange range{.stageFlags = vk::ShaderStageFlagBits::eCompute, .offset = 0, .size = pushConstantSize};
+    vk::DescriptorSetLayout setLayout = *p.setLayout;
+    p.layout = vk::raii::PipelineLayout(ctx.device, vk::PipelineLayoutCreateInfo{.setLayoutCount = 1,
+                                                                                 .pSetLayouts = &setLayout,
+                                                                                 .pushConstantRangeCount = 1,
+                                                                                 .pPushConstantRanges = &range});
+
+    vk::raii::ShaderModule module(ctx.device, vk::ShaderModuleCreateInfo{.codeSize = spirv.size_bytes(),
+                                                                         .pCode = spirv.data()});
+    p.pipeline = vk::raii::Pipeline(
+        ctx.device, nullptr,
+        vk::ComputePipelineCreateInfo{.stage = {.stage = vk::ShaderStageFlagBits::eCompute, .module = *module, .pName = "main"},
+                                      .layout = *p.layout});
+    return p;
+}
+
+}  // namespace whitted

@@ -1,0 +1,20 @@
+// A compute pipeline with one descriptor set and a push-constant block.
+#pragma once
+
+#include "vk/context.h"
+
+#include <span>
+
+namespace whitted {
+
+struct ComputePipeline {
+    vk::raii::DescriptorSetLayout setLayout{nullptr};
+    vk::raii::PipelineLayout layout{nullptr};
+    vk::raii::Pipeline pipeline{nullptr};
+};
+
+// `bindings` lists the descriptor type of each binding number 0..n-1.
+ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv,
+                                      std::span<const vk::DescriptorType> bindings, uint32_t pushConstantSize);
+
+}  // namespace whitted

@@ -1,0 +1,173 @@
+#include "vk/context.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <stdexcept>
+
+namespace whitted {
+namespace {
+
+constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+
+std::string deviceTypeName(vk::PhysicalDeviceType type) {
+    switch (type) {
+        case vk::PhysicalDeviceType::eDiscreteGpu: return "discrete";
+        case vk::PhysicalDeviceType::eIntegratedGpu: return "integrated";
+        case vk::PhysicalDeviceType::eVirtualGpu: return "virtual";
+        case vk::PhysicalDeviceType::eCpu: return "cpu";
+        default: return "other";
+    }
+}
+
+// Preference when no device is named: a real GPU first, lavapipe last.
+int deviceTypeRank(vk::PhysicalDeviceType type) {
+    switch (type) {
+        case vk::PhysicalDeviceType::eDiscreteGpu: return 4;
+        case vk::PhysicalDeviceType::eIntegratedGpu: return 3;
+        case vk::PhysicalDeviceType::eVirtualGpu: return 2;
+        case vk::PhysicalDeviceType::eCpu: return 1;
+        default: return 0;
+    }
+}
+
+std::optional<uint32_t> findComputeQueueFamily(const vk::raii::PhysicalDevice& device) {
+    auto families = device.getQueueFamilyProperties();
+    for (uint32_t i = 0; i < families.size(); ++i)
+        if (families[i].queueFlags & vk::QueueFlagBits::eCompute) return i;
+    return std::nullopt;
+}
+
+DeviceInfo describe(const vk::raii::PhysicalDevice& device, uint32_t index) {
+    auto props = device.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties>();
+    const auto& p = props.get<vk::PhysicalDeviceProperties2>().properties;
+    const auto& d = props.get<vk::PhysicalDeviceDriverProperties>();
+    DeviceInfo info;
+    info.index = index;
+    info.name = p.deviceName.data();
+    info.type = deviceTypeName(p.deviceType);
+    info.driver = std::string(d.driverName.data()) + " " + d.driverInfo.data();
+    info.apiVersion = p.apiVersion;
+    info.suitable = p.apiVersion >= VK_API_VERSION_1_2 && findComputeQueueFamily(device).has_value();
+    return info;
+}
+
+std::string lower(std::string s) {
+    std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+    return s;
+}
+
+VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                             VkDebugUtilsMessageTypeFlagsEXT,
+                                             const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
+    auto* counter = static_cast<std::atomic<uint32_t>*>(user);
+    counter->fetch_add(1);
+    const char* level = severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT ? "error" : "warning";
+    std::fprintf(stderr, "whitted: validation %s: %s\n", level, data->pMessage);
+    return VK_FALSE;
+}
+
+vk::raii::Instance createInstance(const vk::raii::Context& context, bool validation) {
+    vk::ApplicationInfo app{.pApplicationName = "whitted",
+                            .applicationVersion = VK_MAKE_VERSION(0, 1, 0),
+                            .pEngineName = "whitted",
+                            .apiVersion = VK_API_VERSION_1_2};
+    std::vector<const char*> layers;
+    std::vector<const char*> extensions;
+    if (validation) {
+        auto available = context.enumerateInstanceLayerProperties();
+        bool found = std::any_of(available.begin(), available.end(), [](const vk::LayerProperties& l) {
+            return std::string_view(l.layerName.data()) == kValidationLayer;
+        });
+        if (!found)
+            throw std::runtime_error(std::string("validation was requested but ") + kValidationLayer +
+                                     " is not installed (Debian package vulkan-validationlayers)");
+        layers.push_back(kValidationLayer);
+        extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+    }
+    return vk::raii::Instance(context, vk::InstanceCreateInfo{
+                                           .pApplicationInfo = &app,
+                                           .enabledLayerCount = uint32_t(layers.size()),
+                                           .ppEnabledLayerNames = layers.data(),
+                                           .enabledExtensionCount = uint32_t(extensions.size()),
+                                           .ppEnabledExtensionNames = extensions.data()});
+}
+
+}  // namespace
+
+std::vector<DeviceInfo> VulkanContext::listDevices() {
+    vk::raii::Context context;
+    vk::raii::Instance instance = createInstance(context, false);
+    vk::raii::PhysicalDevices devices(instance);
+    std::vector<DeviceInfo> infos;
+    for (uint32_t i = 0; i < devices.size(); ++i) infos.push_back(describe(devices[i], i));
+    return infos;
+}
+
+VulkanContext::VulkanContext(const ContextOptions& options) {
+    instance = createInstance(context, options.validation);
+    if (options.validation) {
+        using Severity = vk::DebugUtilsMessageSeverityFlagBitsEXT;
+        using Type = vk::DebugUtilsMessageTypeFlagBitsEXT;
+        messenger = vk::raii::DebugUtilsMessengerEXT(
+            instance, vk::DebugUtilsMessengerCreateInfoEXT{
+                          .messageSeverity = Severity::eWarning | Severity::eError,
+                          .messageType = Type::eGeneral | Type::eValidation | Type::ePerformance,
+                          .pfnUserCallback = debugCallback,
+                          .pUserData = validationMessages_.get()});
+    }
+
+    // Device choice: the one named, else the best-ranked suitable one.
+    vk::raii::PhysicalDevices devices(instance);
+    std::optional<uint32_t> chosen;
+    if (!options.deviceName.empty()) {
+        bool isIndex = std::all_of(options.deviceName.begin(), options.deviceName.end(),
+                                   [](unsigned char c) { return std::isdigit(c); });
+        for (uint32_t i = 0; i < devices.size() && !chosen; ++i) {
+            DeviceInfo d = describe(devices[i], i);
+            bool match = isIndex ? std::to_string(i) == options.deviceName
+                                 : lower(d.name).find(lower(options.deviceName)) != std::string::npos;
+            if (match) {
+                if (!d.suitable)
+                    throw std::runtime_error("device '" + d.name + "' does not support Vulkan 1.2 compute");
+                chosen = i;
+            }
+        }
+        if (!chosen)
+            throw std::runtime_error("no Vulkan device matches '" + options.deviceName +
+                                     "' (run `whitted devices` to list them)");
+    } else {
+        int bestRank = -1;
+        for (uint32_t i = 0; i < devices.size(); ++i) {
+            DeviceInfo d = describe(devices[i], i);
+            int rank = deviceTypeRank(devices[i].getProperties().deviceType);
+            if (d.suitable && rank > bestRank) {
+                bestRank = rank;
+                chosen = i;
+            }
+        }
+        if (!chosen)
+            throw std::runtime_error(
+                "no Vulkan 1.2 device with a compute queue was found (install mesa-vulkan-drivers for lavapipe)");
+    }
+    physicalDevice = std::move(devices[*chosen]);
+    info_ = describe(physicalDevice, *chosen);
+
+    queueFamily = *findComputeQueueFamily(physicalDevice);
+    float priority = 1.0f;
+    vk::DeviceQueueCreateInfo queueInfo{.queueFamilyIndex = queueFamily, .queueCount = 1, .pQueuePriorities = &priority};
+    device = vk::raii::Device(physicalDevice, vk::DeviceCreateInfo{.queueCreateInfoCount = 1, .pQueueCreateInfos = &queueInfo});
+    queue = vk::raii::Queue(device, queueFamily, 0);
+    commandPool = vk::raii::CommandPool(device, vk::CommandPoolCreateInfo{
+                                                    .flags = vk::CommandPoolCreateFlagBits::eResetCommandBuffer,
+                                                    .queueFamilyIndex = queueFamily});
+}
+
+void VulkanContext::waitForFence(vk::Fence fence) {
+    // vk::raii turns VK_ERROR_DEVICE_LOST and friends into vk::SystemError.
+    vk::Result result = device.waitForFences(fence, VK_TRUE, UINT64_MAX);
+    if (result != vk::Result::eSuccess)
+        throw std::runtime_error("vkWaitForFences: " + vk::to_string(result));
+}
+
+}  // namespace whitted

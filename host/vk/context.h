@@ -1,0 +1,76 @@
+// Vulkan instance, device choice, logical device and compute queue.
+#pragma once
+
+#include <vulkan/vulkan_raii.hpp>
+
+#include <atomic>
+#include <optional>
+#include <string>
+#include <vector>
+
+
+namespace whitted {
+
+struct DeviceInfo {
+    uint32_t index = 0;
+    std::string name;
+    std::string type;  // "discrete", "integrated", "virtual", "cpu", "other"
+    std::string driver;
+    uint32_t apiVersion = 0;
+    bool suitable = false;  // Vulkan 1.2 and a compute queue
+};
+
+struct ContextOptions {
+    bool validation = false;        // enable VK_LAYER_KHRONOS_validation
+    std::string deviceName;         // substring or index; empty = best
+};
+
+// Owns the Vulkan objects every renderer needs. Validation messages (when
+// enabled) are printed to stderr and counted so that tests and `render`
+// can fail on them.
+class VulkanContext {
+public:
+    explicit VulkanContext(const ContextOptions& options);
+    VulkanContext(const VulkanContext&) = delete;
+    VulkanContext& operator=(const VulkanContext&) = delete;
+
+    static std::vector<DeviceInfo> listDevices();
+
+    const DeviceInfo& deviceInfo() const { return info_; }
+    uint32_t validationMessageCount() const { return validationMessages_->load(); }
+
+    vk::raii::Context context;
+    vk::raii::Instance instance{nullptr};
+    vk::raii::DebugUtilsMessengerEXT messenger{nullptr};
+    vk::raii::PhysicalDevice physicalDevice{nullptr};
+    vk::raii::Device device{nullptr};
+    vk::raii::Queue queue{nullptr};
+    uint32_t queueFamily = 0;
+    vk::raii::CommandPool commandPool{nullptr};
+
+    // Runs `record` on a one-time command buffer, submits it and waits.
+    template <typename F>
+    void submitAndWait(F&& record) {
+        vk::raii::CommandBuffers buffers(device, {.commandPool = *commandPool,
+                                                  .level = vk::CommandBufferLevel::ePrimary,
+                                                  .commandBufferCount = 1});
+        vk::raii::CommandBuffer& cmd = buffers.front();
+        cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
+        record(cmd);
+        cmd.end();
+        vk::raii::Fence fence(device, vk::FenceCreateInfo{});
+        vk::CommandBuffer raw = *cmd;
+        queue.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &raw}, *fence);
+        waitForFence(*fence);
+    }
+
+private:
+    void waitForFence(vk::Fence fence);
+
+    DeviceInfo info_;
+    // Heap-allocated so the debug callback's user pointer stays valid.
+    std::unique_ptr<std::atomic<uint32_t>> validationMessages_ =
+        std::make_unique<std::atomic<uint32_t>>(0);
+};
+
+}  // namespace whitted

@@ -1,0 +1,117 @@
+// GPU data layout shared by the C++ host and the GLSL shaders: structs,
+// binding numbers, AOV layers and the work-group size are declared once here
+// (the nvpro-samples host_device.h pattern). Every struct is made of vec4 /
+// uvec4 members only so std430 and C++ agree without hand padding; the host
+// side static_asserts the sizes in host/render/gpu_scene.cpp.
+#ifndef WHITTED_DEVICE_TYPES_H
+#define WHITTED_DEVICE_TYPES_H
+
+#ifdef __cplusplus
+#include <cstdint>
+#include <glm/glm.hpp>
+namespace whitted::gpu {
+using vec4 = glm::vec4;
+using uvec4 = glm::uvec4;
+using uint = std::uint32_t;
+#define WHITTED_CONST inline constexpr
+#else
+#define WHITTED_CONST const
+#endif
+
+WHITTED_CONST uint kWorkgroupSize = 8;  // 8x8 invocations, one pixel each
+
+// Descriptor bindings of the single descriptor set.
+WHITTED_CONST uint kBindingParams = 0;      // uniform FrameParams
+WHITTED_CONST uint kBindingPrimitives = 1;  // Primitive[]
+WHITTED_CONST uint kBindingMaterials = 2;   // Material[]
+WHITTED_CONST uint kBindingLights = 3;      // Light[]
+WHITTED_CONST uint kBindingOutput = 4;      // vec4[kAovCount * width * height]
+WHITTED_CONST uint kBindingCounters = 5;    // RayCounters
+
+// Shape tags in Primitive.info.x.
+WHITTED_CONST uint kShapeSphere = 0;
+WHITTED_CONST uint kShapeCylinder = 1;
+WHITTED_CONST uint kShapePlane = 2;
+WHITTED_CONST uint kShapeTriangle = 3;
+WHITTED_CONST uint kShapeBox = 4;
+
+// Output layers, each width*height vec4 holding the SUM over samples.
+// Colour components ambient+diffuse+specular+reflection+transmission add up
+// to kAovColor exactly (each ray's contribution is tagged with the component
+// of the primary hit that spawned it).
+WHITTED_CONST uint kAovColor = 0;
+WHITTED_CONST uint kAovAmbient = 1;
+WHITTED_CONST uint kAovDiffuse = 2;
+WHITTED_CONST uint kAovSpecular = 3;
+WHITTED_CONST uint kAovReflection = 4;
+WHITTED_CONST uint kAovTransmission = 5;
+WHITTED_CONST uint kAovNormal = 6;     // xyz shading normal, w hit mask
+WHITTED_CONST uint kAovCoefs0 = 7;     // ka, kd, ks, depth (primary hit)
+WHITTED_CONST uint kAovCoefs1 = 8;     // kr, kt, ior, hit mask
+WHITTED_CONST uint kAovCount = 9;
+
+// Capacity of the explicit ray stack; a Whitted tree traversed depth first
+// never holds more than maxDepth + 1 pending rays.
+WHITTED_CONST uint kRayStackSize = 24;
+WHITTED_CONST uint kMaxDepthLimit = kRayStackSize - 2;
+
+// FrameParams.options.z bit flags.
+WHITTED_CONST uint kOptionWriteAovs = 1u;
+
+// One geometric primitive. Meaning of a, b, c by shape:
+//   sphere:   a = (centre, radius)
+//   cylinder: a = (bottom cap centre, radius), b = (unit axis, height)
+//   plane:    a = (point, 0), b = (unit normal, 0)
+//   triangle: a, b, c = vertices (xyz)
+//   box:      a = min corner, b = max corner
+// info = (shape tag, material index, 0, 0)
+struct Primitive {
+    vec4 a;
+    vec4 b;
+    vec4 c;
+    uvec4 info;
+};
+
+// Phong + Whitted material. diffuse/specular rgb are Cd/Cs.
+struct Material {
+    vec4 diffuse;
+    vec4 specular;
+    vec4 coefs0;  // ka, kd, ks, shininess
+    vec4 coefs1;  // kr, kt, ior, 0
+};
+
+struct Light {
+    vec4 position;
+    vec4 color;
+};
+
+// Per-render constants (uniform buffer).
+struct FrameParams {
+    vec4 eye;           // camera position
+    vec4 forward;       // unit view direction
+    vec4 right;         // image right, scaled by tan(fov/2) * aspect
+    vec4 up;            // image up, scaled by tan(fov/2)
+    vec4 ambientLight;  // A
+    uvec4 sizes;        // width, height, primitive count, light count
+    uvec4 options;      // samples per pixel, max depth, flags, seed
+};
+
+// Per-dispatch constants (push constants): the tile and sample range.
+struct TileParams {
+    uvec4 tile;     // x0, y0, width, height
+    uvec4 samples;  // first sample index, sample count, 0, 0
+};
+
+// Rays traced, counted by the shader (reset before each dispatch).
+struct RayCounters {
+    uint primary;
+    uint shadow;
+    uint secondary;
+    uint pad;
+};
+
+#ifdef __cplusplus
+}  // namespace whitted::gpu
+#endif
+#undef WHITTED_CONST
+#endif

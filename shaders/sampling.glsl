@@ -1,0 +1,56 @@
+// Stratified sample positions inside a pixel.
+#ifndef WHITTED_SAMPLING_GLSL
+#define WHITTED_SAMPLING_GLSL
+
+// Hash-based permutation of [0, l) and uniform float from "Correlated
+// Multi-Jittered Sampling", Kensler, Pixar Technical Memo 13-01 (2013).
+uint cmjPermute(uint i, uint l, uint p) {
+    uint w = l - 1u;
+    w |= w >> 1; w |= w >> 2; w |= w >> 4; w |= w >> 8; w |= w >> 16;
+    do {
+        i ^= p; i *= 0xe170893du; i ^= p >> 16; i ^= (i & w) >> 4;
+        i ^= p >> 8; i *= 0x0929eb3fu; i ^= p >> 23; i ^= (i & w) >> 1;
+        i *= 1u | p >> 27; i *= 0x6935fa69u; i ^= (i & w) >> 11;
+        i *= 0x74dcb303u; i ^= (i & w) >> 2; i *= 0x9e501cc3u;
+        i ^= (i & w) >> 2; i *= 0xc860a3dfu; i &= w; i ^= i >> 5;
+    } while (i >= l);
+    return (i + p) % l;
+}
+
+float cmjRandFloat(uint i, uint p) {
+    i ^= p; i ^= i >> 17; i ^= i >> 10; i *= 0xb36534e5u; i ^= i >> 12;
+    i ^= i >> 21; i *= 0x93fc4795u; i ^= 0xdf6e307fu; i ^= i >> 17;
+    i *= 1u | p >> 18;
+    return float(i) * (1.0 / 4294967808.0);
+}
+
+// Sample s of n in the unit square, jittered within an m x ceil(n/m) grid
+// and correlated so that both 1D projections are stratified too (Kensler
+// 2013, listing 5). p decorrelates pixels.
+vec2 cmjSample(uint s, uint n, uint p) {
+    uint m = uint(sqrt(float(n)));
+    uint rows = (n + m - 1u) / m;
+    s = cmjPermute(s, n, p * 0x51633e2du);
+    uint sx = cmjPermute(s % m, m, p * 0x68bc21ebu);
+    uint sy = cmjPermute(s / m, rows, p * 0x02e5be93u);
+    float jx = cmjRandFloat(s, p * 0x967a889bu);
+    float jy = cmjRandFloat(s, p * 0x368cc8b7u);
+    return vec2((float(sx) + (float(sy) + jx) / float(rows)) / float(m), (float(s) + jy) / float(n));
+}
+
+// Pixel-space offset of sample s; a single sample goes through the centre so
+// that spp 1 matches a classic one-ray-per-pixel render.
+vec2 pixelSampleOffset(uint s, uint n, uint pixelSeed) {
+    if (n == 1u) return vec2(0.5);
+    return cmjSample(s, n, pixelSeed);
+}
+
+// Integer hash (Wang / Jarzynski & Olano, "Hash Functions for GPU Rendering",
+// JCGT 2020: pcg) to turn a pixel index into a pattern seed.
+uint hashPcg(uint v) {
+    uint state = v * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
+#endif

@@ -1,0 +1,43 @@
+// Local Phong shading at a hit point (README, "Shading model").
+#ifndef WHITTED_SHADING_GLSL
+#define WHITTED_SHADING_GLSL
+#include "intersect.glsl"
+
+struct LocalShading {
+    vec3 ambient;
+    vec3 diffuse;
+    vec3 specular;
+    uint shadowRays;
+};
+
+// Ambient ka Cd A plus, per point light, its visibility (shadow ray) times
+// kd Cd max(N.L, 0) + ks Cs max(R.V, 0)^shininess. n faces the viewer and p
+// is already offset to the viewer's side of the surface.
+LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 viewDir) {
+    LocalShading s;
+    s.ambient = m.coefs0.x * m.diffuse.rgb * params.ambientLight.rgb;
+    s.diffuse = vec3(0.0);
+    s.specular = vec3(0.0);
+    s.shadowRays = 0u;
+    float kd = m.coefs0.y, ks = m.coefs0.z, shininess = m.coefs0.w;
+    uint lightCount = params.sizes.w;
+    for (uint i = 0u; i < lightCount; ++i) {
+        vec3 toLight = lights[i].position.xyz - p;
+        float dist = length(toLight);
+        vec3 l = toLight / dist;
+        float nDotL = dot(n, l);
+        if (nDotL <= 0.0 || (kd <= 0.0 && ks <= 0.0)) continue;
+        s.shadowRays += 1u;
+        vec3 visibility = shadowTransmittance(Ray(p, l), dist);
+        if (all(equal(visibility, vec3(0.0)))) continue;
+        vec3 light = visibility * lights[i].color.rgb;
+        s.diffuse += light * kd * m.diffuse.rgb * nDotL;
+        if (ks > 0.0) {
+            vec3 r = reflect(-l, n);
+            s.specular += light * ks * m.specular.rgb * pow(max(dot(r, viewDir), 0.0), shininess);
+        }
+    }
+    return s;
+}
+
+#endif

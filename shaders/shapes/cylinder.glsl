@@ -1,0 +1,62 @@
+#ifndef WHITTED_CYLINDER_GLSL
+#define WHITTED_CYLINDER_GLSL
+#include "../ray.glsl"
+
+// Ray/capped cylinder of any axis. The side is the quadratic
+// |op + t dp|^2 = r^2 in the plane perpendicular to the axis, with the
+// discriminant written as a r^2 - |dp x op|^2 (Lagrange's identity) to avoid
+// cancellation; a side root counts only between the caps, a cap root only
+// inside the radius. Each candidate is tested on its own and the nearest wins,
+// so a ray never takes a cap's plane for the cap (the seed's phantom-shadow
+// bug) and the normal comes from the part that was hit, not guessed from the
+// point afterwards.
+bool intersectCylinder(vec3 base, vec3 axis, float radius, float height, Ray ray, float tMin,
+                       inout float tHit, out vec3 normal) {
+    vec3 o = ray.origin - base;
+    float oa = dot(o, axis);
+    float da = dot(ray.dir, axis);
+    vec3 op = o - oa * axis;
+    vec3 dp = ray.dir - da * axis;
+    float r2 = radius * radius;
+    bool found = false;
+
+    // Side.
+    float a = dot(dp, dp);
+    if (a > 1e-12) {
+        float b = dot(op, dp);
+        vec3 cr = cross(dp, op);
+        float disc = a * r2 - dot(cr, cr);
+        if (disc >= 0.0) {
+            float q = -(b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(disc));
+            float c = dot(op, op) - r2;
+            float roots[2] = float[2](q / a, c / q);
+            for (int i = 0; i < 2; ++i) {
+                float t = roots[i];
+                float h = oa + t * da;
+                if (t > tMin && t < tHit && h >= 0.0 && h <= height) {
+                    tHit = t;
+                    vec3 radial = op + t * dp;
+                    normal = radial / radius;
+                    found = true;
+                }
+            }
+        }
+    }
+
+    // Caps: bottom at h = 0 (normal -axis), top at h = height (normal +axis).
+    if (abs(da) > 1e-12) {
+        for (int i = 0; i < 2; ++i) {
+            float h = i == 0 ? 0.0 : height;
+            float t = (h - oa) / da;
+            vec3 radial = op + t * dp;
+            if (t > tMin && t < tHit && dot(radial, radial) <= r2) {
+                tHit = t;
+                normal = i == 0 ? -axis : axis;
+                found = true;
+            }
+        }
+    }
+    return found;
+}
+
+#endif

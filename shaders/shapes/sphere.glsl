@@ -1,0 +1,27 @@
+#ifndef WHITTED_SPHERE_GLSL
+#define WHITTED_SPHERE_GLSL
+#include "../ray.glsl"
+
+// Ray/sphere with the cancellation-free discriminant r^2 - |f - (f.d)d|^2 and
+// the stable root pair q, c/q: "Precision Improvements for Ray/Sphere
+// Intersection", Haines et al., Ray Tracing Gems ch. 7 (2019).
+// Updates tHit/normal and returns true if a root lies in (tMin, tHit).
+bool intersectSphere(vec3 center, float radius, Ray ray, float tMin, inout float tHit, out vec3 normal) {
+    vec3 f = ray.origin - center;
+    float b = dot(f, ray.dir);
+    vec3 l = f - b * ray.dir;
+    float disc = radius * radius - dot(l, l);
+    if (disc < 0.0) return false;
+    float c = dot(f, f) - radius * radius;
+    float q = -(b + (b >= 0.0 ? 1.0 : -1.0) * sqrt(disc));
+    float t0 = c / q;
+    float t1 = q;
+    if (t0 > t1) { float s = t0; t0 = t1; t1 = s; }
+    float t = t0 > tMin ? t0 : t1;
+    if (!(t > tMin && t < tHit)) return false;
+    tHit = t;
+    normal = (ray.origin + t * ray.dir - center) / radius;
+    return true;
+}
+
+#endif

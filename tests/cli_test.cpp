@@ -1,0 +1,141 @@
+// The `whitted` executable as a user runs it: exit statuses, messages, the
+// files it writes and the files it must not create or clobber.
+#include "test_support.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace whitted::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Run {
+    int status;
+    std::string output;  // stdout and stderr together
+};
+
+// Runs the executable with `args` in folder `cwd`.
+Run runWhitted(const std::string& args, const fs::path& cwd = fs::current_path()) {
+    std::string command = "cd '" + cwd.string() + "' && '" WHITTED_EXECUTABLE "' " + args + " 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    std::string output;
+    char buf[4096];
+    while (size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
+    int status = ::pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+// A fresh, empty folder for one test.
+fs::path scratchDir(const std::string& name) {
+    fs::path dir = outputDir() / "cli" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string scene(const std::string& name) { return (sourceDir() / "scenes" / name).string(); }
+
+TEST(Cli, VersionAndHelp) {
+    Run version = runWhitted("--version");
+    EXPECT_EQ(version.status, 0);
+    EXPECT_NE(version.output.find("whitted " WHITTED_VERSION), std::string::npos);
+    Run help = runWhitted("render --help");
+    EXPECT_EQ(help.status, 0);
+    EXPECT_NE(help.output.find("--max-depth"), std::string::npos);
+}
+
+TEST(Cli, UnknownOptionIsBadInput) {
+    Run r = runWhitted("render " + scene("room.xml") + " --no-such-option");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("--no-such-option"), std::string::npos);
+}
+
+TEST(Cli, RenderWritesMainAndAuxiliaryImages) {
+    fs::path dir = scratchDir("render_o");
+    Run r = runWhitted("render " + scene("three_diffuse_spheres.xml") + " -o out.png --width 40 --height 30 --validate",
+                       dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (const char* name : {"out.png", "out.ambient.png", "out.diffuse.png", "out.specular.png", "out.reflection.png",
+                             "out.transmission.png", "out.reflection_coef.png", "out.transmission_coef.png",
+                             "out.ior.png", "out.depth.png", "out.normal.png"})
+        EXPECT_TRUE(fs::exists(dir / name)) << name;
+    for (const auto& entry : fs::directory_iterator(dir))
+        EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << entry.path();
+}
+
+TEST(Cli, AovListSelectsImagesAndExrIsFloat) {
+    fs::path dir = scratchDir("render_exr");
+    Run r = runWhitted("render " + scene("three_diffuse_spheres.xml") +
+                           " -o out.exr --width 20 --height 15 --aov depth,kt --validate", dir);
+    EXPECT_EQ(r.status, 2) << "kt is not an auxiliary image name";
+    EXPECT_NE(r.output.find("unknown auxiliary image 'kt'"), std::string::npos) << r.output;
+    r = runWhitted("render " + scene("three_diffuse_spheres.xml") +
+                       " -o out.exr --width 20 --height 15 --aov depth,transmission_coef --validate", dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::exists(dir / "out.exr"));
+    EXPECT_TRUE(fs::exists(dir / "out.depth.exr"));
+    EXPECT_TRUE(fs::exists(dir / "out.transmission_coef.exr"));
+    EXPECT_FALSE(fs::exists(dir / "out.normal.exr"));
+}
+
+TEST(Cli, DefaultOutputIsANewHistoryFolder) {
+    fs::path dir = scratchDir("history");
+    Run r = runWhitted("render " + scene("three_diffuse_spheres.xml") + " --width 20 --height 15 --aov none --validate",
+                       dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::vector<fs::path> entries;
+    for (const auto& e : fs::directory_iterator(dir / "renders")) entries.push_back(e.path());
+    ASSERT_EQ(entries.size(), 1u);
+    EXPECT_TRUE(fs::exists(entries[0] / "image.png"));
+    EXPECT_TRUE(fs::exists(entries[0] / "scene.xml"));
+    std::ifstream json(entries[0] / "render.json");
+    std::stringstream text;
+    text << json.rdbuf();
+    EXPECT_NE(text.str().find("\"primary\": 300"), std::string::npos) << text.str();
+    EXPECT_NE(text.str().find("\"spp\": 1"), std::string::npos);
+}
+
+// A bad scene gives FILE:LINE and exit status 2, and touches no output.
+TEST(Cli, BadSceneIsRefusedWithoutTouchingTheOutput) {
+    fs::path dir = scratchDir("bad_scene");
+    std::ofstream(dir / "bad.xml") << "<scene>\n  <camera>\n    <position x=\"0\" y=\"0\" z=\"0\"/>\n  </camera>\n</scene>\n";
+    std::ofstream(dir / "existing.png") << "previous contents";
+    Run r = runWhitted("render bad.xml -o existing.png", dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("bad.xml:2:"), std::string::npos) << r.output;
+    std::ifstream existing(dir / "existing.png");
+    std::string contents((std::istreambuf_iterator<char>(existing)), {});
+    EXPECT_EQ(contents, "previous contents");
+
+    r = runWhitted("render bad.xml -o fresh.png", dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_FALSE(fs::exists(dir / "fresh.png"));
+    EXPECT_FALSE(fs::exists(dir / "fresh.ambient.png"));
+}
+
+TEST(Cli, MissingSceneFileIsBadInput) {
+    Run r = runWhitted("render /nonexistent/scene.xml -o /tmp/never.png");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("/nonexistent/scene.xml"), std::string::npos) << r.output;
+}
+
+TEST(Cli, UnwritableOutputIsRefusedBeforeRendering) {
+    Run r = runWhitted("render " + scene("room.xml") + " -o /nonexistent/folder/out.png");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("output folder /nonexistent/folder does not exist"), std::string::npos) << r.output;
+    r = runWhitted("render " + scene("room.xml") + " -o out.unknownformat");
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("cannot write images of type '.unknownformat'"), std::string::npos) << r.output;
+}
+
+TEST(Cli, DevicesListsLavapipeOrAGpu) {
+    Run r = runWhitted("devices");
+    EXPECT_EQ(r.status, 0);
+    EXPECT_NE(r.output.find("0: "), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace whitted::test

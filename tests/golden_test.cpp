@@ -1,0 +1,95 @@
+// Golden-image tests: every scene in scenes/ rendered small and compared
+// with tests/references/<scene>.png.
+//
+// Metric (8-bit sRGB values, per channel): the mean absolute difference must
+// be at most 0.5 levels, and at most 0.2% of the pixels may differ by more
+// than 16 levels in any channel. The second bound leaves room for a handful
+// of edge pixels that flip between surfaces when llvmpipe is compiled for
+// another vector width (FMA contraction differs), while a moved shadow, a
+// changed material or a missing object changes far more pixels than that.
+//
+// Regenerate every reference (then LOOK at each image before committing):
+//   tools/update_references.sh
+// On failure the render and a difference image go to build/tests/output/.
+#include "io/image_io.h"
+#include "io/aov_output.h"
+#include "scene/scene_loader.h"
+#include "test_support.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace whitted::test {
+namespace {
+
+constexpr int kWidth = 160;
+constexpr int kHeight = 120;
+constexpr int kSpp = 4;
+constexpr double kMaxMeanLevels = 0.5;
+constexpr double kMaxOutlierFraction = 0.002;
+constexpr float kOutlierLevels = 16;
+
+std::vector<std::string> sceneNames() {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(sourceDir() / "scenes"))
+        if (entry.path().extension() == ".xml") names.push_back(entry.path().stem().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
+class GoldenImage : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(GoldenImage, MatchesReference) {
+    const std::string name = GetParam();
+    Scene scene = loadScene(sourceDir() / "scenes" / (name + ".xml"));
+    RenderSettings settings{.width = kWidth, .height = kHeight, .samplesPerPixel = kSpp, .maxDepth = 6,
+                            .auxiliary = false};
+    RenderResult result = renderScene(scene, settings);
+
+    std::filesystem::path reference = sourceDir() / "tests" / "references" / (name + ".png");
+    if (const char* update = std::getenv("WHITTED_UPDATE_REFERENCES"); update && std::string(update) == "1") {
+        writeRenderImages(result, reference, {}, Tonemap::Clamp);
+        GTEST_SKIP() << "reference written: " << reference;
+    }
+
+    // Quantise the render exactly as a PNG file would be.
+    std::filesystem::path rendered = outputDir() / (name + ".render.png");
+    writeRenderImages(result, rendered, {}, Tonemap::Clamp);
+    std::vector<float> got, want;
+    int w1, h1, c1, w2, h2, c2;
+    readImageInto(rendered, w1, h1, c1, got);
+    ASSERT_TRUE(std::filesystem::exists(reference)) << "missing reference " << reference
+                                                    << "; run tools/update_references.sh";
+    readImageInto(reference, w2, h2, c2, want);
+    ASSERT_EQ(w1, w2);
+    ASSERT_EQ(h1, h2);
+    ASSERT_EQ(c1, c2);
+
+    double sum = 0;
+    size_t outliers = 0;
+    std::vector<float> diff(got.size());
+    for (size_t p = 0; p < size_t(w1) * h1; ++p) {
+        float worst = 0;
+        for (int c = 0; c < c1; ++c) {
+            size_t i = p * c1 + c;
+            float d = std::abs(got[i] - want[i]) * 255.0f;
+            sum += d;
+            worst = std::max(worst, d);
+            diff[i] = std::min(1.0f, d / 32.0f);
+        }
+        if (worst > kOutlierLevels) ++outliers;
+    }
+    double mean = sum / double(got.size());
+    double outlierFraction = double(outliers) / double(size_t(w1) * h1);
+    bool ok = mean <= kMaxMeanLevels && outlierFraction <= kMaxOutlierFraction;
+    if (!ok) writeImage(outputDir() / (name + ".diff.png"), w1, h1, c1, diff, PixelEncoding::Linear8);
+    EXPECT_LE(mean, kMaxMeanLevels) << name << ": mean difference in 8-bit levels; see " << outputDir();
+    EXPECT_LE(outlierFraction, kMaxOutlierFraction) << name << ": fraction of pixels off by > " << kOutlierLevels;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, GoldenImage, ::testing::ValuesIn(sceneNames()),
+                         [](const auto& info) { return info.param; });
+
+}  // namespace
+}  // namespace whitted::test

@@ -1,0 +1,33 @@
+#include "test_support.h"
+
+#include "scene/scene_loader.h"
+
+namespace whitted::test {
+
+VulkanContext& testContext() {
+    static VulkanContext ctx({.validation = true, .deviceName = ""});
+    return ctx;
+}
+
+RenderResult renderScene(const Scene& scene, const RenderSettings& settings) {
+    VulkanContext& ctx = testContext();
+    uint32_t before = ctx.validationMessageCount();
+    Renderer renderer(ctx, scene, settings);
+    RenderResult result = renderer.render();
+    EXPECT_EQ(ctx.validationMessageCount(), before) << "the Vulkan validation layer reported messages (see stderr)";
+    return result;
+}
+
+RenderResult renderXml(const std::string& xml, const RenderSettings& settings) {
+    return renderScene(loadSceneFromString(xml, "inline.xml"), settings);
+}
+
+std::filesystem::path sourceDir() { return WHITTED_SOURCE_DIR; }
+
+std::filesystem::path outputDir() {
+    std::filesystem::path dir = WHITTED_TEST_OUTPUT_DIR;
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+}  // namespace whitted::test

@@ -1,0 +1,32 @@
+// Shared helpers for tests that render: one Vulkan context per test process
+// with the Khronos validation layer on, and in-process rendering of scene
+// files or inline XML. Any validation message fails the current test.
+#pragma once
+
+#include "render/renderer.h"
+#include "scene/scene.h"
+#include "vk/context.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+
+namespace whitted::test {
+
+VulkanContext& testContext();
+
+// Renders and checks that the validation layer stayed silent.
+RenderResult renderScene(const Scene& scene, const RenderSettings& settings);
+RenderResult renderXml(const std::string& xml, const RenderSettings& settings);
+
+std::filesystem::path sourceDir();
+std::filesystem::path outputDir();  // created on demand, for diff images
+
+// Pixel access into an RGBA layer.
+inline glm::vec4 pixel(const RenderResult& r, uint32_t layer, int x, int y) {
+    const float* p = &r.layers[layer][(size_t(y) * r.width + x) * 4];
+    return {p[0], p[1], p[2], p[3]};
+}
+
+}  // namespace whitted::test
