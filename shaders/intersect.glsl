@@ -3,24 +3,7 @@
 #ifndef WHITTED_INTERSECT_GLSL
 #define WHITTED_INTERSECT_GLSL
 #include "scene.glsl"
-#include "shapes/sphere.glsl"
-#include "shapes/cylinder.glsl"
-#include "shapes/plane.glsl"
-#include "shapes/triangle.glsl"
-#include "shapes/box.glsl"
-
-// Dispatches to the shape's own intersection function.
-bool intersectPrimitive(Primitive prim, Ray ray, float tMin, inout float tHit, out vec3 normal) {
-    switch (prim.info.x) {
-        case kShapeSphere: return intersectSphere(prim.a.xyz, prim.a.w, ray, tMin, tHit, normal);
-        case kShapeCylinder: return intersectCylinder(prim.a.xyz, prim.b.xyz, prim.a.w, prim.b.w, ray, tMin, tHit, normal);
-        case kShapePlane: return intersectPlane(prim.a.xyz, prim.b.xyz, ray, tMin, tHit, normal);
-        case kShapeTriangle: return intersectTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, ray, tMin, tHit, normal);
-        case kShapeBox: return intersectBox(prim.a.xyz, prim.b.xyz, ray, tMin, tHit, normal);
-    }
-    normal = vec3(0.0);
-    return false;
-}
+#include "shapes/primitive.glsl"
 
 // Nearest hit in (0, tMax).
 bool traceClosest(Ray ray, float tMax, out Hit hit) {

@@ -113,6 +113,36 @@ TEST(RenderAnalytic, IndexOneClearSphereIsInvisible) {
         }
 }
 
+// Total internal reflection: from inside a glass sphere (IOR 1.5) a ray
+// whose impact parameter is 0.95 radius meets the surface at 71.8 degrees,
+// past the critical angle of 41.8 degrees, and every later chord meets it at
+// the same angle. With kt 1, ka a and nothing else, the first hit gives a to
+// the ambient layer and each of the maxDepth reflections adds a to the
+// reflection layer; nothing is transmitted. A ray through the centre leaves.
+TEST(RenderAnalytic, TotalInternalReflectionPastTheCriticalAngle) {
+    const float a = 0.1f;
+    std::string glass = sphereXml(R"(x="0.95" y="0" z="0")", 1.0,
+                                  "<ambiente_coef>0.1</ambiente_coef><diffuse_coef>0</diffuse_coef>"
+                                  "<transmission_coef>1</transmission_coef><refraction_coef>1.5</refraction_coef>");
+    std::string backdrop = R"(<object><position x="0" y="0" z="-20"/><properties><type>plane</type>)"
+                           R"(<normal x="0" y="0" z="1"/><ambiente_coef>1</ambiente_coef><diffuse_coef>0</diffuse_coef></properties></object>)";
+    RenderResult r = renderXml(sceneXml("", glass + backdrop), small(1, 3));
+    glm::vec4 ambient = pixel(r, gpu::kAovAmbient, 16, 12);
+    glm::vec4 reflection = pixel(r, gpu::kAovReflection, 16, 12);
+    glm::vec4 transmission = pixel(r, gpu::kAovTransmission, 16, 12);
+    EXPECT_NEAR(ambient.r, a, 1e-6f);
+    EXPECT_NEAR(reflection.r, 3 * a, 1e-5f);
+    EXPECT_EQ(transmission.r, 0.0f);
+
+    // Control: with the eye 0.3 radius off the centre (sin 0.3 < 1/1.5) the
+    // ray refracts out twice and reaches the white backdrop.
+    std::string nearCentre = glass;
+    nearCentre.replace(nearCentre.find("0.95"), 4, "0.3");
+    RenderResult control = renderXml(sceneXml("", nearCentre + backdrop), small(1, 3));
+    EXPECT_NEAR(pixel(control, gpu::kAovTransmission, 16, 12).r, 1.0f, 1e-5f);
+    EXPECT_EQ(pixel(control, gpu::kAovReflection, 16, 12).r, 0.0f);
+}
+
 // --max-depth 0 shows local shading only: no secondary ray is traced.
 TEST(RenderAnalytic, MaxDepthZeroTracesNoSecondaryRays) {
     Scene scene = loadScene(sourceDir() / "scenes" / "room.xml");

@@ -1,5 +1,7 @@
 #include "render/renderer.h"
 
+#include <cstdint>
+
 #include "whitted_comp.h"  // kWhittedCompSpv, generated from shaders/whitted.comp
 
 #include <chrono>

@@ -20,17 +20,22 @@ bool intersectTriangle(vec3 v0, vec3 v1, vec3 v2, Ray ray, float tMin, inout flo
     float sy = ray.dir[ky] / ray.dir[kz];
     float sz = 1.0 / ray.dir[kz];
 
-    vec3 a = v0 - ray.origin;
-    vec3 b = v1 - ray.origin;
-    vec3 c = v2 - ray.origin;
-    float ax = a[kx] - sx * a[kz], ay = a[ky] - sy * a[kz];
-    float bx = b[kx] - sx * b[kz], by = b[ky] - sy * b[kz];
-    float cx = c[kx] - sx * c[kz], cy = c[ky] - sy * c[kz];
+    // Vertices relative to the origin, sheared. Every vertex goes through
+    // the same arithmetic whichever triangle it belongs to (`precise`: no
+    // FMA contraction that the compiler could apply to one and not another).
+    precise vec3 a = v0 - ray.origin;
+    precise vec3 b = v1 - ray.origin;
+    precise vec3 c = v2 - ray.origin;
+    precise float ax = a[kx] - sx * a[kz], ay = a[ky] - sy * a[kz];
+    precise float bx = b[kx] - sx * b[kz], by = b[ky] - sy * b[kz];
+    precise float cx = c[kx] - sx * c[kz], cy = c[ky] - sy * c[kz];
 
-    // Scaled barycentric coordinates (edge functions).
-    float u = cx * by - cy * bx;
-    float v = ax * cy - ay * cx;
-    float w = bx * ay - by * ax;
+    // Scaled barycentric coordinates (edge functions). Unfused, an edge seen
+    // from its two triangles gives w and exactly -w: the antisymmetry the
+    // watertightness rests on.
+    precise float u = cx * by - cy * bx;
+    precise float v = ax * cy - ay * cx;
+    precise float w = bx * ay - by * ax;
     if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return false;
     float det = u + v + w;
     if (det == 0.0) return false;
