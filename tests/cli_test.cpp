@@ -12,13 +12,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct CommandRun {
     int status;
     std::string output;  // stdout and stderr together
 };
 
 // Runs the executable with `args` in folder `cwd`.
-Run runWhitted(const std::string& args, const fs::path& cwd = fs::current_path()) {
+CommandRun runWhitted(const std::string& args, const fs::path& cwd = fs::current_path()) {
     std::string command = "cd '" + cwd.string() + "' && '" WHITTED_EXECUTABLE "' " + args + " 2>&1";
     FILE* pipe = ::popen(command.c_str(), "r");
     std::string output;
@@ -39,23 +39,23 @@ fs::path scratchDir(const std::string& name) {
 std::string scene(const std::string& name) { return (sourceDir() / "scenes" / name).string(); }
 
 TEST(Cli, VersionAndHelp) {
-    Run version = runWhitted("--version");
+    CommandRun version = runWhitted("--version");
     EXPECT_EQ(version.status, 0);
     EXPECT_NE(version.output.find("whitted " WHITTED_VERSION), std::string::npos);
-    Run help = runWhitted("render --help");
+    CommandRun help = runWhitted("render --help");
     EXPECT_EQ(help.status, 0);
     EXPECT_NE(help.output.find("--max-depth"), std::string::npos);
 }
 
 TEST(Cli, UnknownOptionIsBadInput) {
-    Run r = runWhitted("render " + scene("room.xml") + " --no-such-option");
+    CommandRun r = runWhitted("render " + scene("room.xml") + " --no-such-option");
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.output.find("--no-such-option"), std::string::npos);
 }
 
 TEST(Cli, RenderWritesMainAndAuxiliaryImages) {
     fs::path dir = scratchDir("render_o");
-    Run r = runWhitted("render " + scene("three_diffuse_spheres.xml") + " -o out.png --width 40 --height 30 --validate",
+    CommandRun r = runWhitted("render " + scene("three_diffuse_spheres.xml") + " -o out.png --width 40 --height 30 --validate",
                        dir);
     ASSERT_EQ(r.status, 0) << r.output;
     for (const char* name : {"out.png", "out.ambient.png", "out.diffuse.png", "out.specular.png", "out.reflection.png",
@@ -68,7 +68,7 @@ TEST(Cli, RenderWritesMainAndAuxiliaryImages) {
 
 TEST(Cli, AovListSelectsImagesAndExrIsFloat) {
     fs::path dir = scratchDir("render_exr");
-    Run r = runWhitted("render " + scene("three_diffuse_spheres.xml") +
+    CommandRun r = runWhitted("render " + scene("three_diffuse_spheres.xml") +
                            " -o out.exr --width 20 --height 15 --aov depth,kt --validate", dir);
     EXPECT_EQ(r.status, 2) << "kt is not an auxiliary image name";
     EXPECT_NE(r.output.find("unknown auxiliary image 'kt'"), std::string::npos) << r.output;
@@ -83,7 +83,7 @@ TEST(Cli, AovListSelectsImagesAndExrIsFloat) {
 
 TEST(Cli, DefaultOutputIsANewHistoryFolder) {
     fs::path dir = scratchDir("history");
-    Run r = runWhitted("render " + scene("three_diffuse_spheres.xml") + " --width 20 --height 15 --aov none --validate",
+    CommandRun r = runWhitted("render " + scene("three_diffuse_spheres.xml") + " --width 20 --height 15 --aov none --validate",
                        dir);
     ASSERT_EQ(r.status, 0) << r.output;
     std::vector<fs::path> entries;
@@ -103,7 +103,7 @@ TEST(Cli, BadSceneIsRefusedWithoutTouchingTheOutput) {
     fs::path dir = scratchDir("bad_scene");
     std::ofstream(dir / "bad.xml") << "<scene>\n  <camera>\n    <position x=\"0\" y=\"0\" z=\"0\"/>\n  </camera>\n</scene>\n";
     std::ofstream(dir / "existing.png") << "previous contents";
-    Run r = runWhitted("render bad.xml -o existing.png", dir);
+    CommandRun r = runWhitted("render bad.xml -o existing.png", dir);
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.output.find("bad.xml:2:"), std::string::npos) << r.output;
     std::ifstream existing(dir / "existing.png");
@@ -117,13 +117,13 @@ TEST(Cli, BadSceneIsRefusedWithoutTouchingTheOutput) {
 }
 
 TEST(Cli, MissingSceneFileIsBadInput) {
-    Run r = runWhitted("render /nonexistent/scene.xml -o /tmp/never.png");
+    CommandRun r = runWhitted("render /nonexistent/scene.xml -o /tmp/never.png");
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.output.find("/nonexistent/scene.xml"), std::string::npos) << r.output;
 }
 
 TEST(Cli, UnwritableOutputIsRefusedBeforeRendering) {
-    Run r = runWhitted("render " + scene("room.xml") + " -o /nonexistent/folder/out.png");
+    CommandRun r = runWhitted("render " + scene("room.xml") + " -o /nonexistent/folder/out.png");
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.output.find("output folder /nonexistent/folder does not exist"), std::string::npos) << r.output;
     r = runWhitted("render " + scene("room.xml") + " -o out.unknownformat");
@@ -132,7 +132,7 @@ TEST(Cli, UnwritableOutputIsRefusedBeforeRendering) {
 }
 
 TEST(Cli, DevicesListsLavapipeOrAGpu) {
-    Run r = runWhitted("devices");
+    CommandRun r = runWhitted("devices");
     EXPECT_EQ(r.status, 0);
     EXPECT_NE(r.output.find("0: "), std::string::npos) << r.output;
 }

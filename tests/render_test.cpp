@@ -81,7 +81,9 @@ TEST(RenderAnalytic, LambertSphereLitFromTheEye) {
             double disc = b * b - c;
             float got = pixel(r, gpu::kAovColor, x, y).r;
             if (disc < 1e-3) {  // misses, and grazing pixels too close to call
-                if (disc < -1e-3) EXPECT_EQ(got, 0.0f) << x << "," << y;
+                if (disc < -1e-3) {
+                    EXPECT_EQ(got, 0.0f) << x << "," << y;
+                }
                 continue;
             }
             double t = -b - std::sqrt(disc);
