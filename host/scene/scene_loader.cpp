@@ -405,8 +405,16 @@ Scene parse(const tinyxml2::XMLDocument& doc, const std::filesystem::path& name)
 
 Scene loadSceneFromString(std::string_view xml, const std::filesystem::path& name) {
     tinyxml2::XMLDocument doc;
-    if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
-        throw SceneError(name.string(), doc.ErrorLineNum(), std::string("malformed XML: ") + doc.ErrorStr());
+    if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
+        // ErrorStr() is "Error=NAME ErrorID=N (0xN) Line number=N: detail";
+        // the name and the detail are what a reader needs.
+        std::string detail = doc.ErrorStr();
+        size_t at = detail.find("Line number=");
+        at = at == std::string::npos ? std::string::npos : detail.find(": ", at);
+        detail = at == std::string::npos ? "" : ": " + detail.substr(at + 2);
+        throw SceneError(name.string(), doc.ErrorLineNum(),
+                         std::string("malformed XML (") + doc.ErrorName() + ")" + detail);
+    }
     return parse(doc, name);
 }
 
