@@ -131,6 +131,19 @@ TEST(Cli, UnwritableOutputIsRefusedBeforeRendering) {
     EXPECT_NE(r.output.find("cannot write images of type '.unknownformat'"), std::string::npos) << r.output;
 }
 
+TEST(Cli, DeviceIsChosenByNameOrRefusedClearly) {
+    fs::path dir = scratchDir("device");
+    CommandRun r = runWhitted("render " + scene("three_diffuse_spheres.xml") +
+                                  " -o out.png --width 8 --height 6 --aov none --device 0", dir);
+    EXPECT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("whitted: device "), std::string::npos) << "prints which device it uses";
+    r = runWhitted("render " + scene("three_diffuse_spheres.xml") + " -o out2.png --device no-such-gpu", dir);
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.output.find("no Vulkan device matches 'no-such-gpu' (run `whitted devices` to list them)"),
+              std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out2.png"));
+}
+
 TEST(Cli, DevicesListsLavapipeOrAGpu) {
     CommandRun r = runWhitted("devices");
     EXPECT_EQ(r.status, 0);

@@ -170,10 +170,19 @@ TEST(RenderAnalytic, CountsOnePrimaryRayPerSample) {
 // the samples are split into dispatches.
 TEST(RenderAnalytic, RenderingIsDeterministic) {
     Scene scene = loadScene(sourceDir() / "scenes" / "room.xml");
-    RenderSettings s{.width = 48, .height = 36, .samplesPerPixel = 5, .maxDepth = 6, .auxiliary = false};
+    RenderSettings s{.width = 136, .height = 40, .samplesPerPixel = 5, .maxDepth = 6, .auxiliary = false};
     RenderResult a = renderScene(scene, s);
     RenderResult b = renderScene(scene, s);
     EXPECT_TRUE(a.layers[gpu::kAovColor] == b.layers[gpu::kAovColor]);
+    // Two 128-pixel tiles, and at most 700 camera samples per dispatch: one
+    // sample per dispatch, ten dispatches instead of two. The same samples
+    // are traced; only the order of the floating-point sums changes.
+    s.samplesPerDispatch = 700;
+    RenderResult split = renderScene(scene, s);
+    ASSERT_EQ(a.layers[gpu::kAovColor].size(), split.layers[gpu::kAovColor].size());
+    for (size_t i = 0; i < a.layers[gpu::kAovColor].size(); ++i)
+        ASSERT_NEAR(a.layers[gpu::kAovColor][i], split.layers[gpu::kAovColor][i], 1e-6f) << i;
+    EXPECT_EQ(a.rays.total(), split.rays.total());
 }
 
 // A perfect mirror facing the camera shows the sphere behind the camera

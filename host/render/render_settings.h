@@ -12,6 +12,9 @@ struct RenderSettings {
     int maxDepth = 6;         // secondary bounces; 0 = local shading only
     bool auxiliary = true;    // also produce the auxiliary (AOV) layers
     uint32_t seed = 0;        // decorrelates sample patterns between renders
+    // Upper bound on camera samples per dispatch: keeps each submit short
+    // (GPU watchdogs, progress updates) while amortising submit overhead.
+    uint64_t samplesPerDispatch = 1u << 18;
 };
 
 }  // namespace whitted

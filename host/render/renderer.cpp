@@ -17,9 +17,6 @@ double secondsSince(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Camera samples per dispatch: keeps every submit short (GPU watchdogs,
-// progress updates) while amortising the submit overhead.
-constexpr uint64_t kSamplesPerDispatch = 1u << 18;
 constexpr uint32_t kTileSize = 128;
 
 constexpr vk::BufferUsageFlags kStorage = vk::BufferUsageFlagBits::eStorageBuffer;
@@ -87,7 +84,9 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
 }
 
 // Tiles of kTileSize^2 pixels; each tile's samples are split into chunks so
-// that no dispatch traces more than kSamplesPerDispatch camera samples.
+// that no dispatch traces more than settings.samplesPerDispatch camera
+// samples. Sample indices are global, so the split changes only the order of
+// the floating-point sums, not which samples are traced.
 std::vector<Renderer::WorkItem> Renderer::planWork() const {
     std::vector<WorkItem> items;
     uint32_t spp = uint32_t(settings_.samplesPerPixel);
@@ -95,7 +94,7 @@ std::vector<Renderer::WorkItem> Renderer::planWork() const {
         for (uint32_t x = 0; x < uint32_t(scene_.width); x += kTileSize) {
             uint32_t w = std::min(kTileSize, uint32_t(scene_.width) - x);
             uint32_t h = std::min(kTileSize, uint32_t(scene_.height) - y);
-            uint32_t chunk = uint32_t(std::clamp<uint64_t>(kSamplesPerDispatch / (uint64_t(w) * h), 1, spp));
+            uint32_t chunk = uint32_t(std::clamp<uint64_t>(std::max<uint64_t>(settings_.samplesPerDispatch, 1) / (uint64_t(w) * h), 1, spp));
             for (uint32_t s = 0; s < spp; s += chunk) {
                 uint32_t n = std::min(chunk, spp - s);
                 items.push_back({.tile = {.tile = glm::uvec4(x, y, w, h), .samples = glm::uvec4(s, n, 0, 0)},
