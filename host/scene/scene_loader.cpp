@@ -3,27 +3,33 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <fstream>
-#include <functional>
-#include <map>
-#include <optional>
-#include <set>
-#include <sstream>
+#include <iterator>
+#include <stdexcept>
+#include <system_error>
+#include <utility>
 #include <vector>
 
 namespace whitted {
 
 namespace {
-std::string formatError(const std::string& file, int line, const std::string& message) {
-    return line > 0 ? file + ":" + std::to_string(line) + ": " + message : file + ": " + message;
+
+std::string located(const std::string& file, int line, const std::string& message) {
+    if (line > 0) return file + ":" + std::to_string(line) + ": " + message;
+    return file + ": " + message;
 }
+
 }  // namespace
 
 SceneError::SceneError(std::string file, int line, std::string message)
-    : std::runtime_error(formatError(file, line, message)),
+    : std::runtime_error(located(file, line, message)),
       file_(std::move(file)),
       line_(line),
       message_(std::move(message)) {}
@@ -31,401 +37,648 @@ SceneError::SceneError(std::string file, int line, std::string message)
 namespace {
 
 using tinyxml2::XMLElement;
+using tinyxml2::XMLNode;
+using tinyxml2::XMLText;
 
+// Limits of the format (README "Scene files").
 constexpr double kMaxMagnitude = 1e6;
+constexpr int kMaxImageSize = 16384;
+// Below this length a direction (or the eye-to-window vector) counts as zero.
+constexpr double kMinLength = 1e-12;
+// |cross(a, b)| of unit vectors below this counts as parallel.
+constexpr double kParallelTolerance = 1e-6;
+// A triangle is degenerate when |cross(e1, e2)| <= this times its longest
+// squared edge (zero area relative to its size).
+constexpr double kDegenerateTolerance = 1e-12;
+// Stray text is quoted in messages up to this many characters.
+constexpr size_t kMaxQuotedText = 30;
 
-std::string tag(const std::string& name) { return "<" + name + ">"; }
+// ---- Text helpers -----------------------------------------------------------
 
-std::string joined(const std::vector<std::string>& names) {
+std::string tag(std::string_view name) {
+    return "<" + std::string(name) + ">";
+}
+
+std::string trimmed(std::string_view s) {
+    auto isSpace = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+    while (!s.empty() && isSpace(s.front())) s.remove_prefix(1);
+    while (!s.empty() && isSpace(s.back())) s.remove_suffix(1);
+    return std::string(s);
+}
+
+std::string inQuotes(std::string_view text) {
+    if (text.size() > kMaxQuotedText) return "\"" + std::string(text.substr(0, kMaxQuotedText)) + "...\"";
+    return "\"" + std::string(text) + "\"";
+}
+
+// "a, b, c"; with `lastSeparator` " or " the last pair reads "b or c".
+std::string joined(const std::vector<std::string>& names, const std::string& lastSeparator = ", ") {
     std::string s;
-    for (size_t i = 0; i < names.size(); ++i) s += (i ? ", " : "") + names[i];
+    for (size_t i = 0; i < names.size(); ++i) {
+        if (i > 0) s += i + 1 == names.size() ? lastSeparator : ", ";
+        s += names[i];
+    }
     return s;
 }
 
-std::string trimmed(const char* text) {
-    std::string s = text ? text : "";
-    auto notSpace = [](unsigned char c) { return !std::isspace(c); };
-    s.erase(s.begin(), std::find_if(s.begin(), s.end(), notSpace));
-    s.erase(std::find_if(s.rbegin(), s.rend(), notSpace).base(), s.end());
+// A range bound as people write it: 0.1, 10, 100000.
+std::string showBound(double v) {
+    std::array<char, 32> buffer{};
+    std::snprintf(buffer.data(), buffer.size(), "%g", v);
+    return buffer.data();
+}
+
+// ---- Value ranges -------------------------------------------------------------
+
+// The values a number may take. Every number is also within ±kMaxMagnitude.
+struct Range {
+    double lo = -kMaxMagnitude;
+    double hi = kMaxMagnitude;
+    bool loOpen = false;
+    bool hiOpen = false;
+
+    bool contains(double v) const { return (loOpen ? v > lo : v >= lo) && (hiOpen ? v < hi : v <= hi); }
+
+    // "> 0" or ">= 0" when the upper end is only the ±1e6 limit, else
+    // "in [0, 1]" with open ends as parentheses.
+    std::string describe() const {
+        if (hi == kMaxMagnitude && !hiOpen) return (loOpen ? "> " : ">= ") + showBound(lo);
+        return std::string("in ") + (loOpen ? "(" : "[") + showBound(lo) + ", " + showBound(hi) + (hiOpen ? ")" : "]");
+    }
+};
+
+constexpr Range kAnyValue{};
+constexpr Range kPositive{0, kMaxMagnitude, true, false};
+constexpr Range kNonNegative{0, kMaxMagnitude, false, false};
+constexpr Range kUnitInterval{0, 1, false, false};  // coefficients, material colours, alpha
+constexpr Range kIorRange{0.1, 10, false, false};
+constexpr Range kShininessRange{0, 1e5, true, false};
+constexpr Range kFovRange{0, 180, true, true};
+
+// ---- Number parsing -------------------------------------------------------------
+
+enum class NumberKind { Finite, NotANumber, NotFinite, Overflow };
+
+struct ParsedNumber {
+    NumberKind kind;
+    double value;
+};
+
+// std::from_chars does not take the leading '+' people may write.
+std::string_view withoutPlus(std::string_view s) {
+    if (s.size() > 1 && s[0] == '+' && s[1] != '-' && s[1] != '+') s.remove_prefix(1);
     return s;
 }
 
-// Shortens a number for messages: 1e+09 -> 1e+09, 0.5 -> 0.5.
-std::string show(double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
+// The whole of `text` as a decimal number. std::from_chars is locale-free and
+// tells trailing garbage apart. Underflow reads as the (tiny or zero) value
+// strtod gives.
+ParsedNumber parseNumber(const std::string& text) {
+    std::string_view s = withoutPlus(text);
+    double value = 0;
+    auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+    if (s.empty() || end != s.data() + s.size() || ec == std::errc::invalid_argument)
+        return {NumberKind::NotANumber, 0};
+    if (ec == std::errc::result_out_of_range) {
+        value = std::strtod(std::string(s).c_str(), nullptr);
+        if (std::isinf(value)) return {NumberKind::Overflow, value};
+    }
+    if (!std::isfinite(value)) return {NumberKind::NotFinite, value};
+    return {NumberKind::Finite, value};
 }
 
-// Reading one file: every error carries its name and the element's line.
-class Parser {
+// ---- Geometry checks -------------------------------------------------------------
+
+bool parallel(const glm::dvec3& unitA, const glm::dvec3& unitB) {
+    return glm::length(glm::cross(unitA, unitB)) < kParallelTolerance;
+}
+
+bool degenerate(const Triangle& t) {
+    glm::dvec3 e1 = t.v1 - t.v0, e2 = t.v2 - t.v0, e3 = t.v2 - t.v1;
+    double scale = std::max({glm::dot(e1, e1), glm::dot(e2, e2), glm::dot(e3, e3)});
+    return !(glm::length(glm::cross(e1, e2)) > kDegenerateTolerance * scale);
+}
+
+// ---- Diagnostics -------------------------------------------------------------------
+
+// Errors and warnings of one file, each placed at the line of an XML node.
+class Diagnostics {
 public:
-    explicit Parser(std::string file) : file_(std::move(file)) {}
+    Diagnostics(std::string file, std::vector<std::string>& warnings) : file_(std::move(file)), warnings_(&warnings) {}
 
-    [[noreturn]] void fail(const XMLElement* e, const std::string& message) const {
-        throw SceneError(file_, e ? e->GetLineNum() : 0, message);
+    [[noreturn]] void fail(const XMLNode* at, const std::string& message) const {
+        throw SceneError(file_, at ? at->GetLineNum() : 0, message);
     }
-    void warn(const XMLElement* e, const std::string& message, Scene& scene) const {
-        scene.warnings.push_back(formatError(file_, e ? e->GetLineNum() : 0, message));
-    }
-
-    // The children of `e`, checked against the allowed names: an unknown
-    // name or a repeated singular one is refused. Names in `repeatable` may
-    // occur many times.
-    std::map<std::string, std::vector<const XMLElement*>> children(const XMLElement* e,
-                                                                   const std::vector<std::string>& allowed,
-                                                                   const std::set<std::string>& repeatable = {}) const {
-        std::map<std::string, std::vector<const XMLElement*>> found;
-        for (const XMLElement* c = e->FirstChildElement(); c; c = c->NextSiblingElement()) {
-            std::string name = c->Name();
-            if (std::find(allowed.begin(), allowed.end(), name) == allowed.end())
-                fail(c, "unknown element " + tag(name) + " in " + tag(e->Name()) + "; expected one of: " + joined(allowed));
-            auto& list = found[name];
-            if (!list.empty() && !repeatable.count(name)) fail(c, "duplicate " + tag(name) + " in " + tag(e->Name()));
-            list.push_back(c);
-        }
-        return found;
+    void warn(const XMLNode* at, const std::string& message) const {
+        warnings_->push_back(located(file_, at ? at->GetLineNum() : 0, message));
     }
 
-    // A number in the element's text (or the given attribute text).
-    double number(const XMLElement* e, const std::string& what, const char* text) const {
-        std::string s = trimmed(text);
-        double v = 0;
-        auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-        if (s.empty() || ec == std::errc::invalid_argument || end != s.data() + s.size())
-            fail(e, what + " must be a number, got \"" + s + "\"");
-        if (ec == std::errc::result_out_of_range || !std::isfinite(v))
-            fail(e, what + " must be a finite number, got \"" + s + "\"");
-        if (std::abs(v) > kMaxMagnitude) fail(e, what + " must be within ±1e6, got " + s);
-        return v;
+    // Elements of the format carry no attributes except the compact vector
+    // and colour form, which is checked on its own.
+    void refuseAttributes(const XMLElement* e) const {
+        if (const tinyxml2::XMLAttribute* a = e->FirstAttribute())
+            fail(e, "unknown attribute \"" + std::string(a->Name()) + "\" on " + tag(e->Name()) + "; " +
+                        tag(e->Name()) + " takes no attributes");
     }
-    double number(const XMLElement* e) const { return number(e, tag(e->Name()), e->GetText()); }
-
-    double numberInRange(const XMLElement* e, double lo, double hi, bool openLo = false) const {
-        double v = number(e);
-        if (openLo ? !(v > lo) : !(v >= lo))
-            fail(e, tag(e->Name()) + " must be " + (openLo ? "> " : ">= ") + show(lo) + ", got " + show(v));
-        if (v > hi) fail(e, tag(e->Name()) + " must be <= " + show(hi) + ", got " + show(v));
-        return v;
-    }
-    double coefficient(const XMLElement* e) const {
-        double v = number(e);
-        if (v < 0 || v > 1) fail(e, tag(e->Name()) + " must be in [0, 1], got " + show(v));
-        return v;
-    }
-    double positive(const XMLElement* e) const {
-        double v = number(e);
-        if (!(v > 0)) fail(e, tag(e->Name()) + " must be > 0, got " + show(v));
-        return v;
-    }
-
-    int integer(const XMLElement* e, int lo, int hi) const {
-        std::string s = trimmed(e->GetText());
-        int v = 0;
-        auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
-        if (s.empty() || ec != std::errc() || end != s.data() + s.size())
-            fail(e, tag(e->Name()) + " must be an integer, got \"" + s + "\"");
-        if (v < lo || v > hi)
-            fail(e, tag(e->Name()) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + s);
-        return v;
-    }
-
-    bool boolean(const XMLElement* e) const {
-        std::string s = trimmed(e->GetText());
-        std::string lower = s;
-        std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
-        if (lower == "true" || lower == "1") return true;
-        if (lower == "false" || lower == "0") return false;
-        fail(e, tag(e->Name()) + " must be true or false, got \"" + s + "\"");
-    }
-
-    // Components of a vector or colour, from attributes (<p x=".." .../>)
-    // or from child elements (<p><x>..</x>...</p>), not a mix of the two.
-    std::vector<double> components(const XMLElement* e, const std::vector<std::string>& names,
-                                   const std::vector<std::string>& optional = {}) const {
-        std::vector<std::string> all = names;
-        all.insert(all.end(), optional.begin(), optional.end());
-        bool hasAttributes = e->FirstAttribute() != nullptr;
-        bool hasChildren = e->FirstChildElement() != nullptr;
-        if (hasAttributes && hasChildren) fail(e, tag(e->Name()) + " mixes attributes and child elements");
-        std::vector<double> values;
-        if (hasAttributes) {
-            for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next())
-                if (std::find(all.begin(), all.end(), a->Name()) == all.end())
-                    fail(e, "unknown attribute \"" + std::string(a->Name()) + "\" on " + tag(e->Name()) +
-                                "; expected " + joined(all));
-            for (const std::string& n : all) {
-                const char* text = e->Attribute(n.c_str());
-                if (!text) {
-                    if (std::find(optional.begin(), optional.end(), n) != optional.end()) continue;
-                    fail(e, tag(e->Name()) + " is missing attribute \"" + n + "\"");
-                }
-                values.push_back(number(e, tag(e->Name()) + " attribute \"" + n + "\"", text));
-            }
-        } else {
-            auto found = children(e, all);
-            for (const std::string& n : all) {
-                auto it = found.find(n);
-                if (it == found.end()) {
-                    if (std::find(optional.begin(), optional.end(), n) != optional.end()) continue;
-                    fail(e, tag(e->Name()) + " is missing " + tag(n));
-                }
-                values.push_back(number(it->second[0]));
-            }
-        }
-        return values;
-    }
-
-    glm::dvec3 vector(const XMLElement* e) const {
-        auto v = components(e, {"x", "y", "z"});
-        return {v[0], v[1], v[2]};
-    }
-    glm::dvec3 unitVector(const XMLElement* e) const {
-        glm::dvec3 v = vector(e);
-        double len = glm::length(v);
-        if (!(len > 1e-12)) fail(e, tag(e->Name()) + " must not be the zero vector");
-        return v / len;
-    }
-    // A colour; channels in [0, maxChannel]; alpha accepted in [0,1], unused.
-    glm::dvec3 color(const XMLElement* e, double maxChannel) const {
-        auto v = components(e, {"r", "g", "b"}, {"a"});
-        for (size_t i = 0; i < v.size(); ++i) {
-            double hi = i < 3 ? maxChannel : 1.0;
-            if (v[i] < 0 || v[i] > hi)
-                fail(e, tag(e->Name()) + " channels must be in [0, " + show(hi) + "], got " + show(v[i]));
-        }
-        return {v[0], v[1], v[2]};
+    void refuseText(const XMLText* text, const XMLElement* parent) const {
+        std::string content = trimmed(text->Value());
+        if (!content.empty()) fail(text, "unexpected text " + inQuotes(content) + " in " + tag(parent->Name()));
     }
 
 private:
     std::string file_;
+    std::vector<std::string>* warnings_;
 };
 
-const XMLElement* only(const std::map<std::string, std::vector<const XMLElement*>>& found, const std::string& name) {
-    auto it = found.find(name);
-    return it == found.end() ? nullptr : it->second.front();
-}
+// ---- Element reader ----------------------------------------------------------------
 
-const XMLElement* required(const Parser& p, const XMLElement* parent,
-                           const std::map<std::string, std::vector<const XMLElement*>>& found, const std::string& name,
-                           const std::string& why = "") {
-    const XMLElement* e = only(found, name);
-    if (!e) p.fail(parent, tag(parent->Name()) + " is missing " + tag(name) + why);
-    return e;
-}
+// A child element name allowed in a container; `repeatable` ones may occur
+// more than once.
+struct ChildRule {
+    std::string_view name;
+    bool repeatable = false;
+};
 
-// ---- Camera ----------------------------------------------------------------
-
-Camera readCamera(const Parser& p, const XMLElement* e) {
-    auto c = p.children(e, {"position", "window_position", "fov", "window_height", "up", "width", "height"});
-    Camera camera;
-    camera.eye = p.vector(required(p, e, c, "position"));
-    camera.windowCenter = p.vector(required(p, e, c, "window_position"));
-    glm::dvec3 forward = camera.windowCenter - camera.eye;
-    double distance = glm::length(forward);
-    if (!(distance > 1e-9)) p.fail(e, "camera <position> and <window_position> coincide");
-    if (auto up = only(c, "up")) {
-        camera.up = p.unitVector(up);
-        if (glm::length(glm::cross(forward / distance, camera.up)) < 1e-6)
-            p.fail(up, "camera <up> is parallel to the viewing direction");
-    } else if (glm::length(glm::cross(forward / distance, camera.up)) < 1e-6) {
-        p.fail(e, "camera looks straight up or down; give an <up> vector that is not vertical");
-    }
-    const XMLElement* fov = only(c, "fov");
-    const XMLElement* windowHeight = only(c, "window_height");
-    if (fov && windowHeight) p.fail(windowHeight, "<camera> has both <fov> and <window_height>; give one");
-    if (fov) {
-        camera.verticalFovDegrees = p.number(fov);
-        if (!(camera.verticalFovDegrees > 0 && camera.verticalFovDegrees < 180))
-            p.fail(fov, "<fov> must be in (0, 180) degrees, got " + show(camera.verticalFovDegrees));
-    }
-    if (windowHeight) {
-        double h = p.positive(windowHeight);
-        camera.verticalFovDegrees = glm::degrees(2.0 * std::atan(h / 2.0 / distance));
-    }
-    if (auto w = only(c, "width")) camera.width = p.integer(w, 1, 16384);
-    if (auto h = only(c, "height")) camera.height = p.integer(h, 1, 16384);
-    return camera;
-}
-
-// ---- Objects ---------------------------------------------------------------
-
-const std::vector<std::string> kTypes = {"sphere", "cylinder", "mesh", "plane", "triangle", "box"};
-const std::vector<std::string> kMaterialProperties = {"type",           "refraction_coef", "transmission_coef",
-                                                      "specular_coef",  "diffuse_coef",    "ambiente_coef",
-                                                      "reflective",     "shininess",       "reflection_coef"};
-// Shape properties and the types they apply to.
-const std::map<std::string, std::set<std::string>> kShapeProperties = {
-    {"radius", {"sphere", "cylinder"}}, {"height", {"cylinder"}}, {"axis", {"cylinder"}},
-    {"polygons", {"mesh"}},             {"normal", {"plane"}},    {"vertex", {"triangle"}},
-    {"size", {"box"}}};
-
-bool degenerate(const Triangle& t) {
-    glm::dvec3 e1 = t.v1 - t.v0, e2 = t.v2 - t.v0;
-    double scale = std::max(glm::dot(e1, e1), glm::dot(e2, e2));
-    return !(glm::length(glm::cross(e1, e2)) > 1e-12 * scale) || scale == 0;
-}
-
-Triangle readTriangle(const Parser& p, const XMLElement* parent, const std::vector<const XMLElement*>& vertices,
-                      glm::dvec3 offset) {
-    if (vertices.size() != 3)
-        p.fail(parent, tag(parent->Name()) + " has " + std::to_string(vertices.size()) + " <vertex>, expected 3");
-    return {offset + p.vector(vertices[0]), offset + p.vector(vertices[1]), offset + p.vector(vertices[2])};
-}
-
-Mesh readMesh(const Parser& p, const XMLElement* polygons, glm::dvec3 offset, Scene& scene) {
-    auto found = p.children(polygons, {"polygon"}, {"polygon"});
-    Mesh mesh;
-    auto it = found.find("polygon");
-    if (it == found.end()) p.fail(polygons, "<polygons> has no <polygon>; a mesh needs at least one");
-    for (const XMLElement* polygon : it->second) {
-        auto v = p.children(polygon, {"vertex"}, {"vertex"});
-        Triangle t = readTriangle(p, polygon, v["vertex"], offset);
-        if (degenerate(t)) {
-            p.warn(polygon, "degenerate polygon skipped", scene);
-            continue;
+// The children of one container element, checked up front against the names
+// the format allows there (Mitsuba's check_attributes): an unknown name, a
+// repeated singular name, stray text or an attribute is refused, so a typo is
+// never silently ignored. Reading a child marks it used; what was never read
+// is what the caller did not expect (pbrt's ReportUnused), see firstUnused().
+class ElementReader {
+public:
+    ElementReader(const Diagnostics& diag, const XMLElement* element, const std::vector<ChildRule>& rules)
+        : diag_(diag), element_(element) {
+        for (const ChildRule& rule : rules) slots_.push_back({rule, {}, false});
+        diag.refuseAttributes(element);
+        for (const XMLNode* node = element->FirstChild(); node; node = node->NextSibling()) {
+            if (const XMLText* text = node->ToText()) diag.refuseText(text, element);
+            const XMLElement* child = node->ToElement();
+            if (!child) continue;
+            Slot* slot = find(child->Name());
+            if (!slot)
+                diag.fail(child,
+                          "unknown element " + tag(child->Name()) + " in " + tag(element->Name()) + "; " + expected());
+            if (!slot->rule.repeatable && !slot->elements.empty())
+                diag.fail(child, "duplicate " + tag(child->Name()) + " in " + tag(element->Name()));
+            slot->elements.push_back(child);
         }
-        mesh.triangles.push_back(t);
     }
-    if (mesh.triangles.empty()) p.fail(polygons, "every <polygon> of the mesh is degenerate");
-    return mesh;
-}
 
-Material readMaterial(const Parser& p, const XMLElement* object,
-                      const std::map<std::string, std::vector<const XMLElement*>>& o,
-                      const std::map<std::string, std::vector<const XMLElement*>>& props) {
-    Material m;
-    if (auto e = only(o, "diffuse_color")) m.diffuseColor = p.color(e, 1.0);
-    if (auto e = only(o, "specular_color")) m.specularColor = p.color(e, 1.0);
-    if (auto e = only(props, "ambiente_coef")) m.ambient = p.coefficient(e);
-    if (auto e = only(props, "diffuse_coef")) m.diffuse = p.coefficient(e);
-    if (auto e = only(props, "specular_coef")) m.specular = p.coefficient(e);
-    if (auto e = only(props, "transmission_coef")) m.transmission = p.coefficient(e);
-    if (auto e = only(props, "refraction_coef")) m.ior = p.numberInRange(e, 0.1, 10.0);
-    if (auto e = only(props, "shininess")) m.shininess = p.numberInRange(e, 0.0, 1e5, true);
-    const XMLElement* reflective = only(props, "reflective");
-    const XMLElement* reflection = only(props, "reflection_coef");
-    bool isReflective = reflective && p.boolean(reflective);
-    if (reflection) {
-        if (reflective && !isReflective)
-            p.fail(reflection, "<reflection_coef> contradicts <reflective>false</reflective>");
-        m.reflection = p.coefficient(reflection);
-    } else if (isReflective) {
-        m.reflection = m.specular;
+    const XMLElement* element() const { return element_; }
+
+    const XMLElement* optional(std::string_view name) {
+        Slot& slot = declared(name);
+        slot.used = true;
+        return slot.elements.empty() ? nullptr : slot.elements.front();
     }
-    (void)object;
-    return m;
-}
-
-Object readObject(const Parser& p, const XMLElement* e, Scene& scene) {
-    auto o = p.children(e, {"position", "diffuse_color", "specular_color", "properties"});
-    const XMLElement* propsElement = required(p, e, o, "properties");
-
-    std::vector<std::string> allowed = kMaterialProperties;
-    for (const auto& [name, types] : kShapeProperties) allowed.push_back(name);
-    auto props = p.children(propsElement, allowed, {"vertex"});
-    const XMLElement* typeElement = required(p, propsElement, props, "type");
-    std::string type = trimmed(typeElement->GetText());
-    if (std::find(kTypes.begin(), kTypes.end(), type) == kTypes.end())
-        p.fail(typeElement, "unknown object type \"" + type + "\"; expected one of: " + joined(kTypes));
-    for (const auto& [name, elements] : props) {
-        auto it = kShapeProperties.find(name);
-        if (it != kShapeProperties.end() && !it->second.count(type))
-            p.fail(elements.front(), tag(name) + " does not apply to type " + type);
+    const XMLElement* required(std::string_view name) {
+        const XMLElement* child = optional(name);
+        if (!child) diag_.fail(element_, tag(element_->Name()) + " is missing " + tag(name));
+        return child;
     }
-    auto need = [&](const std::string& name) {
-        return required(p, propsElement, props, name, " (required for type " + type + ")");
+    const std::vector<const XMLElement*>& all(std::string_view name) {
+        Slot& slot = declared(name);
+        slot.used = true;
+        return slot.elements;
+    }
+
+    // The first child, in document order, whose name was never read.
+    const XMLElement* firstUnused() const {
+        for (const XMLElement* child = element_->FirstChildElement(); child; child = child->NextSiblingElement())
+            if (!find(child->Name())->used) return child;
+        return nullptr;
+    }
+
+private:
+    struct Slot {
+        ChildRule rule;
+        std::vector<const XMLElement*> elements;
+        bool used;
     };
 
-    Object object;
-    object.sourceLine = e->GetLineNum();
-    object.material = readMaterial(p, e, o, props);
-    const XMLElement* positionElement = only(o, "position");
-    bool positionOptional = type == "mesh" || type == "triangle";
-    if (!positionElement && !positionOptional) p.fail(e, "<object> is missing <position>");
-    glm::dvec3 position = positionElement ? p.vector(positionElement) : glm::dvec3(0);
-
-    if (type == "sphere") {
-        object.shape = Sphere{position, p.positive(need("radius"))};
-    } else if (type == "cylinder") {
-        double radius = p.positive(need("radius"));
-        double height = p.positive(need("height"));
-        glm::dvec3 axis = only(props, "axis") ? p.unitVector(only(props, "axis")) : glm::dvec3(0, 1, 0);
-        object.shape = Cylinder{position, axis, radius, height};
-    } else if (type == "plane") {
-        object.shape = Plane{position, p.unitVector(need("normal"))};
-    } else if (type == "box") {
-        const XMLElement* sizeElement = need("size");
-        glm::dvec3 size = p.vector(sizeElement);
-        if (!(size.x > 0 && size.y > 0 && size.z > 0))
-            p.fail(sizeElement, "<size> components must be > 0, got " + show(size.x) + ", " + show(size.y) + ", " +
-                                    show(size.z));
-        object.shape = Box{position, position + size};
-    } else if (type == "triangle") {
-        auto it = props.find("vertex");
-        std::vector<const XMLElement*> vertices = it == props.end() ? std::vector<const XMLElement*>{} : it->second;
-        Triangle t = readTriangle(p, propsElement, vertices, position);
-        if (degenerate(t)) p.fail(propsElement, "degenerate triangle: its vertices are collinear");
-        object.shape = t;
-    } else {
-        object.shape = readMesh(p, need("polygons"), position, scene);
+    Slot* find(std::string_view name) {
+        auto it = std::find_if(slots_.begin(), slots_.end(), [&](const Slot& s) { return s.rule.name == name; });
+        return it == slots_.end() ? nullptr : &*it;
     }
-    return object;
-}
-
-Scene parse(const tinyxml2::XMLDocument& doc, const std::filesystem::path& name) {
-    Parser p(name.string());
-    const XMLElement* root = doc.RootElement();
-    if (!root) p.fail(nullptr, "no root element; expected <scene>");
-    if (std::string(root->Name()) != "scene")
-        p.fail(root, "root element is <" + std::string(root->Name()) + ">, expected <scene>");
-    auto s = p.children(root, {"camera", "lights", "objects", "ambient_light"});
-
-    Scene scene;
-    scene.sourcePath = name;
-    scene.camera = readCamera(p, required(p, root, s, "camera"));
-    if (auto a = only(s, "ambient_light")) scene.ambientLight = p.color(a, kMaxMagnitude);
-
-    const XMLElement* lights = required(p, root, s, "lights");
-    auto lightList = p.children(lights, {"light"}, {"light"});
-    for (const XMLElement* l : lightList["light"]) {
-        auto c = p.children(l, {"position", "color"});
-        scene.lights.push_back({p.vector(required(p, l, c, "position")), p.color(required(p, l, c, "color"), kMaxMagnitude)});
+    const Slot* find(std::string_view name) const {
+        auto it = std::find_if(slots_.begin(), slots_.end(), [&](const Slot& s) { return s.rule.name == name; });
+        return it == slots_.end() ? nullptr : &*it;
     }
-    if (scene.lights.empty()) p.warn(lights, "scene has no lights; only ambient light will show", scene);
 
-    const XMLElement* objects = required(p, root, s, "objects");
-    auto objectList = p.children(objects, {"object"}, {"object"});
-    for (const XMLElement* o : objectList["object"]) scene.objects.push_back(readObject(p, o, scene));
-    if (scene.objects.empty()) p.warn(objects, "scene has no objects; the image will be black", scene);
-    return scene;
+    // Reading a name the rules do not list is a bug in this file, not in the scene.
+    Slot& declared(std::string_view name) {
+        Slot* slot = find(name);
+        if (!slot) throw std::logic_error("scene loader reads undeclared <" + std::string(name) + ">");
+        return *slot;
+    }
+
+    std::string expected() const {
+        std::vector<std::string> names;
+        for (const Slot& s : slots_) names.emplace_back(s.rule.name);
+        if (names.size() == 1) return "expected " + names[0];
+        return "expected one of: " + joined(names);
+    }
+
+    const Diagnostics& diag_;
+    const XMLElement* element_;
+    std::vector<Slot> slots_;
+};
+
+// ---- The schema ----------------------------------------------------------------------
+
+const std::vector<std::string> kTypeNames = {"sphere", "cylinder", "mesh", "plane", "triangle", "box"};
+
+// <properties>: the seed's material elements, the extensions, then the
+// shape elements (each applies to some types only; see readShape).
+const std::vector<ChildRule> kPropertyRules = {{"type"},
+                                               {"refraction_coef"},
+                                               {"transmission_coef"},
+                                               {"specular_coef"},
+                                               {"diffuse_coef"},
+                                               {"ambiente_coef"},
+                                               {"reflective"},
+                                               {"shininess"},
+                                               {"reflection_coef"},
+                                               {"radius"},
+                                               {"height"},
+                                               {"axis"},
+                                               {"normal"},
+                                               {"size"},
+                                               {"vertex", true},
+                                               {"polygons"}};
+
+// One number of a vector or colour.
+struct Component {
+    std::string_view name;
+    Range range;
+    bool optional = false;
+};
+
+// ---- The loader --------------------------------------------------------------------
+
+// Reads one parsed document into a Scene; every method refuses bad input
+// through diag_ with the line of the element at fault.
+class SceneReader {
+public:
+    SceneReader(const std::filesystem::path& name, Scene& scene) : diag_(name.string(), scene.warnings), scene_(scene) {
+        scene_.sourcePath = name;
+    }
+
+    void read(const tinyxml2::XMLDocument& doc) {
+        const XMLElement* root = doc.RootElement();
+        if (!root) diag_.fail(nullptr, "no root element; expected <scene>");
+        if (std::string_view(root->Name()) != "scene")
+            diag_.fail(root, "root element is " + tag(root->Name()) + ", expected <scene>");
+        if (const XMLElement* second = root->NextSiblingElement())
+            diag_.fail(second, "second root element " + tag(second->Name()) + "; a scene file holds one <scene>");
+
+        ElementReader s(diag_, root, {{"camera"}, {"lights"}, {"objects"}, {"ambient_light"}});
+        scene_.camera = readCamera(s.required("camera"));
+        readLights(s.required("lights"));
+        readObjects(s.required("objects"));
+        if (const XMLElement* ambient = s.optional("ambient_light"))
+            scene_.ambientLight = colour(ambient, kNonNegative);
+    }
+
+private:
+    // ---- Values ----
+
+    // The text of a value element such as <radius>, trimmed and joined over
+    // its text nodes (a comment may sit inside); elements inside are refused.
+    std::string valueText(const XMLElement* e) const {
+        diag_.refuseAttributes(e);
+        std::string text;
+        for (const XMLNode* node = e->FirstChild(); node; node = node->NextSibling()) {
+            if (const XMLElement* child = node->ToElement())
+                diag_.fail(child, "unknown element " + tag(child->Name()) + " in " + tag(e->Name()) + "; " +
+                                      tag(e->Name()) + " holds a value, not elements");
+            if (const XMLText* part = node->ToText()) text += part->Value();
+        }
+        return trimmed(text);
+    }
+
+    // `label` names the number in messages: "<radius>", "attribute x of <position>".
+    double number(const XMLNode* at, const std::string& label, const std::string& text, Range range) const {
+        ParsedNumber n = parseNumber(text);
+        switch (n.kind) {
+            case NumberKind::NotANumber:
+                diag_.fail(at, label + " must be a number, got " + inQuotes(text));
+            case NumberKind::NotFinite:
+                diag_.fail(at, label + " must be a finite number, got " + inQuotes(text));
+            case NumberKind::Overflow:
+                diag_.fail(at, label + " must be within ±1e6, got " + text);
+            case NumberKind::Finite:
+                break;
+        }
+        if (std::abs(n.value) > kMaxMagnitude) diag_.fail(at, label + " must be within ±1e6, got " + text);
+        if (!range.contains(n.value)) diag_.fail(at, label + " must be " + range.describe() + ", got " + text);
+        return n.value;
+    }
+    double number(const XMLElement* e, Range range = kAnyValue) const {
+        return number(e, tag(e->Name()), valueText(e), range);
+    }
+
+    int integer(const XMLElement* e, int lo, int hi) const {
+        std::string text = valueText(e);
+        std::string_view digits = withoutPlus(text);
+        int value = 0;
+        auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
+        if (digits.empty() || end != digits.data() + digits.size() || ec == std::errc::invalid_argument)
+            diag_.fail(e, tag(e->Name()) + " must be an integer, got " + inQuotes(text));
+        if (ec == std::errc::result_out_of_range || value < lo || value > hi)
+            diag_.fail(e, tag(e->Name()) + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                              "], got " + text);
+        return value;
+    }
+
+    bool boolean(const XMLElement* e) const {
+        std::string text = valueText(e);
+        std::string lower = text;
+        std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+        if (lower == "true" || lower == "1") return true;
+        if (lower == "false" || lower == "0") return false;
+        diag_.fail(e, tag(e->Name()) + " must be true or false, got " + inQuotes(text));
+    }
+
+    // The numbers of a vector or colour, in the order of `wanted`, from
+    // one of two forms: attributes (<p x=".." y=".." z=".."/>) or child
+    // elements (<p><x>..</x>...</p>). A left-out optional component reads 0.
+    std::array<double, 4> components(const XMLElement* e, const std::vector<Component>& wanted) const {
+        std::vector<std::string> names;
+        for (const Component& c : wanted) names.emplace_back(c.name);
+        std::array<double, 4> values{};
+
+        if (e->FirstAttribute() && e->FirstChildElement())
+            diag_.fail(e, tag(e->Name()) + " mixes attributes and child elements; use one form");
+        if (e->FirstAttribute()) {
+            for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next())
+                if (std::find(names.begin(), names.end(), a->Name()) == names.end())
+                    diag_.fail(e, "unknown attribute \"" + std::string(a->Name()) + "\" on " + tag(e->Name()) +
+                                      "; expected " + joined(names));
+            for (const XMLNode* node = e->FirstChild(); node; node = node->NextSibling())
+                if (const XMLText* text = node->ToText()) diag_.refuseText(text, e);
+            for (size_t i = 0; i < wanted.size(); ++i) {
+                const Component& c = wanted[i];
+                const char* text = e->Attribute(std::string(c.name).c_str());
+                if (!text) {
+                    if (c.optional) continue;
+                    diag_.fail(e, tag(e->Name()) + " is missing attribute \"" + std::string(c.name) + "\"");
+                }
+                values[i] =
+                    number(e, "attribute " + std::string(c.name) + " of " + tag(e->Name()), trimmed(text), c.range);
+            }
+            return values;
+        }
+
+        std::vector<ChildRule> rules;
+        for (const Component& c : wanted) rules.push_back({c.name});
+        ElementReader children(diag_, e, rules);
+        for (size_t i = 0; i < wanted.size(); ++i) {
+            const Component& c = wanted[i];
+            const XMLElement* child = c.optional ? children.optional(c.name) : children.required(c.name);
+            if (child) values[i] = number(child, tag(c.name) + " of " + tag(e->Name()), valueText(child), c.range);
+        }
+        return values;
+    }
+
+    glm::dvec3 vector(const XMLElement* e, Range range = kAnyValue) const {
+        auto v = components(e, {{"x", range}, {"y", range}, {"z", range}});
+        return {v[0], v[1], v[2]};
+    }
+
+    glm::dvec3 direction(const XMLElement* e) const {
+        glm::dvec3 v = vector(e);
+        double length = glm::length(v);
+        if (!(length > kMinLength)) diag_.fail(e, tag(e->Name()) + " must not be the zero vector");
+        return v / length;
+    }
+
+    // r, g, b within `channel`; the seed's alpha is accepted in [0, 1] and unused.
+    glm::dvec3 colour(const XMLElement* e, Range channel) const {
+        auto v = components(e, {{"r", channel}, {"g", channel}, {"b", channel}, {"a", kUnitInterval, true}});
+        return {v[0], v[1], v[2]};
+    }
+
+    // ---- Camera ----
+
+    Camera readCamera(const XMLElement* e) const {
+        ElementReader c(diag_, e,
+                        {{"position"}, {"window_position"}, {"up"}, {"fov"}, {"window_height"}, {"width"}, {"height"}});
+        Camera camera;
+        camera.eye = vector(c.required("position"));
+        camera.windowCenter = vector(c.required("window_position"));
+        glm::dvec3 forward = camera.windowCenter - camera.eye;
+        double distance = glm::length(forward);
+        if (!(distance > kMinLength)) diag_.fail(e, "camera <position> and <window_position> coincide");
+        forward /= distance;
+
+        // The image frame needs an up that is not along the view.
+        if (const XMLElement* up = c.optional("up")) {
+            camera.up = direction(up);
+            if (parallel(forward, camera.up)) diag_.fail(up, "camera <up> is parallel to the viewing direction");
+        } else if (parallel(forward, camera.up)) {
+            diag_.fail(
+                e, "camera looks along the default <up> (0, 1, 0); give an <up> not parallel to the viewing direction");
+        }
+
+        // The field of view, given directly or as the window's height at its
+        // distance from the eye.
+        const XMLElement* fov = c.optional("fov");
+        const XMLElement* windowHeight = c.optional("window_height");
+        if (fov && windowHeight)
+            diag_.fail(laterOf(fov, windowHeight), "<camera> has both <fov> and <window_height>; give one");
+        if (fov) camera.verticalFovDegrees = number(fov, kFovRange);
+        if (windowHeight) {
+            double height = number(windowHeight, kPositive);
+            camera.verticalFovDegrees = glm::degrees(2.0 * std::atan(height / 2.0 / distance));
+            if (!kFovRange.contains(camera.verticalFovDegrees))
+                diag_.fail(windowHeight, "<window_height> gives a field of view of " +
+                                             showBound(camera.verticalFovDegrees) + " degrees; it must be " +
+                                             kFovRange.describe());
+        }
+
+        if (const XMLElement* width = c.optional("width")) camera.width = integer(width, 1, kMaxImageSize);
+        if (const XMLElement* height = c.optional("height")) camera.height = integer(height, 1, kMaxImageSize);
+        return camera;
+    }
+
+    // Of two siblings, the one that comes second in the document.
+    static const XMLElement* laterOf(const XMLElement* a, const XMLElement* b) {
+        for (const XMLElement* e = a; e; e = e->NextSiblingElement())
+            if (e == b) return b;
+        return a;
+    }
+
+    // ---- Lights ----
+
+    void readLights(const XMLElement* e) {
+        ElementReader lights(diag_, e, {{"light", true}});
+        for (const XMLElement* light : lights.all("light")) {
+            ElementReader l(diag_, light, {{"position"}, {"color"}});
+            glm::dvec3 position = vector(l.required("position"));
+            glm::dvec3 color = colour(l.required("color"), kNonNegative);
+            scene_.lights.push_back({position, color});
+        }
+        if (scene_.lights.empty()) diag_.warn(e, "scene has no lights; only ambient light will show");
+    }
+
+    // ---- Objects ----
+
+    void readObjects(const XMLElement* e) {
+        ElementReader objects(diag_, e, {{"object", true}});
+        for (const XMLElement* object : objects.all("object")) scene_.objects.push_back(readObject(object));
+        if (scene_.objects.empty()) diag_.warn(e, "scene has no objects; the image will be black");
+    }
+
+    Object readObject(const XMLElement* e) {
+        ElementReader object(diag_, e, {{"position"}, {"diffuse_color"}, {"specular_color"}, {"properties"}});
+        ElementReader properties(diag_, object.required("properties"), kPropertyRules);
+
+        const XMLElement* typeElement = properties.required("type");
+        std::string type = valueText(typeElement);
+        if (std::find(kTypeNames.begin(), kTypeNames.end(), type) == kTypeNames.end())
+            diag_.fail(typeElement, "<type> must be " + joined(kTypeNames, " or ") + ", got " + inQuotes(type));
+
+        Object result;
+        result.sourceLine = e->GetLineNum();
+        result.material = readMaterial(object, properties);
+        result.shape = readShape(type, object, properties);
+
+        // The shape readers took what their type uses; anything left over
+        // belongs to another type.
+        if (const XMLElement* extra = properties.firstUnused())
+            diag_.fail(extra, tag(extra->Name()) + " does not apply to type " + type);
+        return result;
+    }
+
+    Material readMaterial(ElementReader& object, ElementReader& properties) const {
+        Material m;
+        if (const XMLElement* c = object.optional("diffuse_color")) m.diffuseColor = colour(c, kUnitInterval);
+        if (const XMLElement* c = object.optional("specular_color")) m.specularColor = colour(c, kUnitInterval);
+        if (const XMLElement* k = properties.optional("ambiente_coef")) m.ambient = number(k, kUnitInterval);
+        if (const XMLElement* k = properties.optional("diffuse_coef")) m.diffuse = number(k, kUnitInterval);
+        if (const XMLElement* k = properties.optional("specular_coef")) m.specular = number(k, kUnitInterval);
+        if (const XMLElement* k = properties.optional("transmission_coef")) m.transmission = number(k, kUnitInterval);
+        if (const XMLElement* k = properties.optional("refraction_coef")) m.ior = number(k, kIorRange);
+        if (const XMLElement* k = properties.optional("shininess")) m.shininess = number(k, kShininessRange);
+
+        // The seed's <reflective> switch mirrors with ks; <reflection_coef>
+        // sets kr itself and must not contradict an explicit false.
+        const XMLElement* reflective = properties.optional("reflective");
+        const XMLElement* reflection = properties.optional("reflection_coef");
+        bool isReflective = reflective && boolean(reflective);
+        if (reflection) {
+            if (reflective && !isReflective)
+                diag_.fail(reflection, "<reflection_coef> contradicts <reflective>false</reflective>");
+            m.reflection = number(reflection, kUnitInterval);
+        } else if (isReflective) {
+            m.reflection = m.specular;
+        }
+        return m;
+    }
+
+    Shape readShape(const std::string& type, ElementReader& object, ElementReader& properties) {
+        // What the type requires is reported against <object>.
+        auto missing = [&](std::string_view name) {
+            diag_.fail(object.element(), "<object> is missing " + tag(name) + " (required for type " + type + ")");
+        };
+        auto need = [&](std::string_view name) {
+            const XMLElement* e = properties.optional(name);
+            if (!e) missing(name);
+            return e;
+        };
+
+        // Only meshes and triangles, whose vertices are relative to it, may
+        // leave the position out.
+        const XMLElement* positionElement = object.optional("position");
+        if (!positionElement && type != "mesh" && type != "triangle") missing("position");
+        glm::dvec3 position = positionElement ? vector(positionElement) : glm::dvec3(0);
+
+        if (type == "sphere") return Sphere{position, number(need("radius"), kPositive)};
+        if (type == "cylinder") {
+            double radius = number(need("radius"), kPositive);
+            double height = number(need("height"), kPositive);
+            const XMLElement* axis = properties.optional("axis");
+            return Cylinder{position, axis ? direction(axis) : glm::dvec3(0, 1, 0), radius, height};
+        }
+        if (type == "plane") return Plane{position, direction(need("normal"))};
+        if (type == "box") return Box{position, position + vector(need("size"), kPositive)};
+        if (type == "triangle") {
+            if (properties.all("vertex").empty()) missing("vertex");
+            Triangle t = readTriangle(properties.element(), properties.all("vertex"), position);
+            if (degenerate(t))
+                diag_.fail(object.element(), "<object> of type triangle is degenerate: its vertices are collinear");
+            return t;
+        }
+        return readMesh(need("polygons"), position);
+    }
+
+    Triangle readTriangle(const XMLElement* parent, const std::vector<const XMLElement*>& vertices,
+                          const glm::dvec3& offset) const {
+        if (vertices.size() != 3)
+            diag_.fail(parent,
+                       tag(parent->Name()) + " has " + std::to_string(vertices.size()) + " <vertex>, expected 3");
+        return {offset + vector(vertices[0]), offset + vector(vertices[1]), offset + vector(vertices[2])};
+    }
+
+    // Degenerate polygons are dropped with a warning; a mesh needs at least
+    // one that is not.
+    Mesh readMesh(const XMLElement* e, const glm::dvec3& offset) {
+        ElementReader polygons(diag_, e, {{"polygon", true}});
+        if (polygons.all("polygon").empty()) diag_.fail(e, "<polygons> has no <polygon>; a mesh needs at least one");
+        Mesh mesh;
+        for (const XMLElement* polygon : polygons.all("polygon")) {
+            ElementReader vertices(diag_, polygon, {{"vertex", true}});
+            Triangle t = readTriangle(polygon, vertices.all("vertex"), offset);
+            if (degenerate(t)) {
+                diag_.warn(polygon, "degenerate polygon skipped");
+                continue;
+            }
+            mesh.triangles.push_back(t);
+        }
+        if (mesh.triangles.empty()) diag_.fail(e, "every <polygon> in <polygons> is degenerate");
+        return mesh;
+    }
+
+    Diagnostics diag_;
+    Scene& scene_;
+};
+
+// tinyxml2's ErrorStr() is "Error=NAME ErrorID=N (0xN) Line number=L: detail"
+// (the detail is optional); the line goes in front, so keep the name and the
+// detail.
+std::string xmlErrorMessage(const tinyxml2::XMLDocument& doc) {
+    std::string message = std::string("malformed XML: ") + doc.ErrorName();
+    std::string full = doc.ErrorStr();
+    size_t lineField = full.find("Line number=");
+    size_t detail = lineField == std::string::npos ? std::string::npos : full.find(": ", lineField);
+    if (detail != std::string::npos) message += " (" + full.substr(detail + 2) + ")";
+    return message;
 }
 
 }  // namespace
 
 Scene loadSceneFromString(std::string_view xml, const std::filesystem::path& name) {
     tinyxml2::XMLDocument doc;
-    if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) {
-        // ErrorStr() is "Error=NAME ErrorID=N (0xN) Line number=N: detail";
-        // the name and the detail are what a reader needs.
-        std::string detail = doc.ErrorStr();
-        size_t at = detail.find("Line number=");
-        at = at == std::string::npos ? std::string::npos : detail.find(": ", at);
-        detail = at == std::string::npos ? "" : ": " + detail.substr(at + 2);
-        throw SceneError(name.string(), doc.ErrorLineNum(),
-                         std::string("malformed XML (") + doc.ErrorName() + ")" + detail);
-    }
-    return parse(doc, name);
+    if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
+        throw SceneError(name.string(), doc.ErrorLineNum(), xmlErrorMessage(doc));
+    Scene scene;
+    SceneReader(name, scene).read(doc);
+    return scene;
 }
 
 Scene loadScene(const std::filesystem::path& path) {
+    auto cannotRead = [&](const std::string& reason) {
+        return SceneError(path.string(), 0, "cannot read file: " + reason);
+    };
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) throw cannotRead("it is a directory");
+    errno = 0;
     std::ifstream in(path, std::ios::binary);
-    if (!in || std::filesystem::is_directory(path))
-        throw SceneError(path.string(), 0, std::string("cannot read file: ") +
-                                               (std::filesystem::exists(path) ? "not a readable file" : "no such file"));
-    std::stringstream text;
-    text << in.rdbuf();
-    return loadSceneFromString(text.str(), path);
+    if (!in) throw cannotRead(errno ? std::generic_category().message(errno) : "cannot open it");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw cannotRead("read error");
+    return loadSceneFromString(text, path);
 }
 
 }  // namespace whitted
