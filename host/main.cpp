@@ -34,6 +34,8 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--tonemap", tonemap, "clamp (sRGB) or seed (min-max normalisation, gamma 0.667)")
         ->check(CLI::IsMember({"clamp", "seed"}))->capture_default_str();
     renderCmd->add_option("--device", render.device, "Vulkan device index or name substring [best available]");
+    bool noBvh = false;
+    renderCmd->add_flag("--no-bvh", noBvh, "test every primitive for every ray (reference for comparisons)");
     renderCmd->add_flag("--validate", render.validation, "enable the Khronos validation layer; fail on any message");
     renderCmd->add_flag("-q,--quiet", render.quiet, "no progress or summary");
 
@@ -49,6 +51,7 @@ int main(int argc, char** argv) {
     try {
         if (renderCmd->parsed()) {
             if (!output.empty()) render.output = output;
+            render.settings.useBvh = !noBvh;
             render.tonemap = tonemap == "seed" ? Tonemap::Seed : Tonemap::Clamp;
             if (const char* v = std::getenv("WHITTED_VALIDATION"); v && *v && std::string(v) != "0")
                 render.validation = true;

@@ -27,6 +27,7 @@ WHITTED_CONST uint kBindingMaterials = 2;   // Material[]
 WHITTED_CONST uint kBindingLights = 3;      // Light[]
 WHITTED_CONST uint kBindingOutput = 4;      // vec4[kAovCount * width * height]
 WHITTED_CONST uint kBindingCounters = 5;    // RayCounters
+WHITTED_CONST uint kBindingBvhNodes = 6;    // BvhNode[]
 
 // Shape tags in Primitive.info.x.
 WHITTED_CONST uint kShapeSphere = 0;
@@ -55,6 +56,10 @@ WHITTED_CONST uint kAovCount = 9;
 WHITTED_CONST uint kRayStackSize = 24;
 WHITTED_CONST uint kMaxDepthLimit = kRayStackSize - 2;
 
+// Capacity of the BVH traversal stack; the builder limits the tree depth
+// to fit.
+WHITTED_CONST uint kBvhStackSize = 48;
+
 // FrameParams.options.z bit flags.
 WHITTED_CONST uint kOptionWriteAovs = 1u;
 
@@ -64,7 +69,8 @@ WHITTED_CONST uint kOptionWriteAovs = 1u;
 //   plane:    a = (point, 0), b = (unit normal, 0)
 //   triangle: a, b, c = vertices (xyz)
 //   box:      a = min corner, b = max corner
-// info = (shape tag, material index, 0, 0)
+// info = (shape tag, material index, 0, 0). Primitives in the BVH come first,
+// in leaf order; the unbounded ones (planes) follow and are tested one by one.
 struct Primitive {
     vec4 a;
     vec4 b;
@@ -85,6 +91,15 @@ struct Light {
     vec4 color;
 };
 
+// A node of the flattened BVH (host/accel/bvh.h). lo/hi hold the bounds;
+// the w components hold uint bits: an inner node has hi.w = 0 and its two
+// children at lo.w and lo.w + 1; a leaf has hi.w = primitive count > 0 and
+// its primitives at lo.w .. lo.w + count - 1.
+struct BvhNode {
+    vec4 lo;
+    vec4 hi;
+};
+
 // Per-render constants (uniform buffer).
 struct FrameParams {
     vec4 eye;           // camera position
@@ -94,6 +109,7 @@ struct FrameParams {
     vec4 ambientLight;  // A
     uvec4 sizes;        // width, height, primitive count, light count
     uvec4 options;      // samples per pixel, max depth, flags, seed
+    uvec4 accel;        // BVH node count, first and count of the primitives outside it (planes), 0
 };
 
 // Per-dispatch constants (push constants): the tile and sample range.

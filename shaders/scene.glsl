@@ -9,6 +9,7 @@ layout(std430, set = 0, binding = kBindingMaterials) readonly buffer MaterialBlo
 layout(std430, set = 0, binding = kBindingLights) readonly buffer LightBlock { Light lights[]; };
 layout(std430, set = 0, binding = kBindingOutput) buffer OutputBlock { vec4 outputLayers[]; };
 layout(std430, set = 0, binding = kBindingCounters) buffer CounterBlock { RayCounters counters; };
+layout(std430, set = 0, binding = kBindingBvhNodes) readonly buffer BvhBlock { BvhNode bvhNodes[]; };
 layout(push_constant) uniform TileBlock { TileParams tileParams; };
 
 #endif

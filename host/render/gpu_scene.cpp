@@ -12,7 +12,8 @@ namespace whitted {
 static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, info) == 48);
 static_assert(sizeof(gpu::Material) == 64 && offsetof(gpu::Material, coefs1) == 48);
 static_assert(sizeof(gpu::Light) == 32);
-static_assert(sizeof(gpu::FrameParams) == 112 && offsetof(gpu::FrameParams, sizes) == 80);
+static_assert(sizeof(gpu::FrameParams) == 128 && offsetof(gpu::FrameParams, accel) == 112);
+static_assert(sizeof(gpu::BvhNode) == 32);
 static_assert(sizeof(gpu::TileParams) == 32);
 static_assert(sizeof(gpu::RayCounters) == 16);
 
@@ -46,11 +47,33 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     g.width = settings.width > 0 ? settings.width : scene.camera.width;
     g.height = settings.height > 0 ? settings.height : scene.camera.height;
 
+    std::vector<gpu::Primitive> primitives;
+    std::vector<Aabb> bounds;
     for (const Object& object : scene.objects) {
         uint32_t material = uint32_t(g.materials.size());
         g.materials.push_back(packMaterial(object.material));
-        appendPrimitives(object.shape, material, g.primitives);
+        appendPrimitives(object.shape, material, primitives, bounds);
     }
+
+    // Bounded primitives go into the BVH (reordered to its leaf order),
+    // unbounded ones (planes) after them. Bounds are padded by a few float
+    // ulps: the shader intersects float-rounded shapes.
+    std::vector<uint32_t> bounded, unbounded;
+    for (uint32_t i = 0; i < primitives.size(); ++i)
+        (settings.useBvh && bounds[i].finite() ? bounded : unbounded).push_back(i);
+    std::vector<Aabb> boundedBounds;
+    for (uint32_t i : bounded) {
+        Aabb b = bounds[i];
+        glm::vec3 pad = 1e-6f * (glm::abs(b.min) + glm::abs(b.max)) + 1e-30f;
+        b.min -= pad;
+        b.max += pad;
+        boundedBounds.push_back(b);
+    }
+    Bvh bvh = buildBvh(boundedBounds);
+    g.bvhNodes = std::move(bvh.nodes);
+    g.bvhStats = bvh.stats;
+    for (uint32_t k : bvh.primitiveOrder) g.primitives.push_back(primitives[bounded[k]]);
+    for (uint32_t i : unbounded) g.primitives.push_back(primitives[i]);
     for (const PointLight& light : scene.lights)
         g.lights.push_back({.position = glm::vec4(glm::vec3(light.position), 1.0f),
                             .color = glm::vec4(glm::vec3(light.color), 1.0f)});
@@ -60,6 +83,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     g.params.sizes = glm::uvec4(g.width, g.height, g.primitives.size(), g.lights.size());
     g.params.options = glm::uvec4(settings.samplesPerPixel, settings.maxDepth,
                                   settings.auxiliary ? gpu::kOptionWriteAovs : 0u, settings.seed);
+    g.params.accel = glm::uvec4(g.bvhNodes.size(), bounded.size(), unbounded.size(), 0);
     return g;
 }
 

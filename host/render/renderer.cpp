@@ -51,7 +51,8 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
 
     const vk::DescriptorType bindingTypes[] = {
         vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
-        vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer};
+        vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
+        vk::DescriptorType::eStorageBuffer};
     pipeline_ = createComputePipeline(ctx, kWhittedCompSpv, bindingTypes, sizeof(gpu::TileParams));
 
     // Scene upload.
@@ -63,16 +64,17 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     lights_ = createDeviceBuffer(ctx, scene_.lights.data(), scene_.lights.size() * sizeof(gpu::Light), kStorage);
     output_ = createDeviceBuffer(ctx, nullptr, outputSize, kStorage | vk::BufferUsageFlagBits::eTransferSrc);
     counters_ = createBuffer(ctx, sizeof(gpu::RayCounters), kStorage, hostVisible);
+    bvhNodes_ = createDeviceBuffer(ctx, scene_.bvhNodes.data(), scene_.bvhNodes.size() * sizeof(gpu::BvhNode), kStorage);
 
     // One descriptor set for the whole render.
-    vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1}, {vk::DescriptorType::eStorageBuffer, 5}};
+    vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1}, {vk::DescriptorType::eStorageBuffer, 6}};
     descriptorPool_ = vk::raii::DescriptorPool(
         ctx.device, vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
                                                  .maxSets = 1, .poolSizeCount = 2, .pPoolSizes = poolSizes});
     vk::DescriptorSetLayout setLayout = *pipeline_.setLayout;
     descriptorSet_ = std::move(vk::raii::DescriptorSets(
         ctx.device, {.descriptorPool = *descriptorPool_, .descriptorSetCount = 1, .pSetLayouts = &setLayout}).front());
-    const Buffer* buffers[] = {&params_, &primitives_, &materials_, &lights_, &output_, &counters_};
+    const Buffer* buffers[] = {&params_, &primitives_, &materials_, &lights_, &output_, &counters_, &bvhNodes_};
     std::vector<vk::DescriptorBufferInfo> infos;
     for (const Buffer* b : buffers) infos.push_back({*b->buffer, 0, VK_WHOLE_SIZE});
     std::vector<vk::WriteDescriptorSet> writes;
@@ -169,6 +171,7 @@ RenderResult Renderer::render(const ProgressCallback& progress) {
     }
     result.renderSeconds = secondsSince(start);
     result.uploadSeconds = uploadSeconds_;
+    result.bvh = scene_.bvhStats;
     return result;
 }
 

@@ -29,7 +29,8 @@ struct RenderResult {
     bool hasAuxiliary = false;
     std::array<std::vector<float>, gpu::kAovCount> layers;  // only kAovColor without auxiliary
     RayStats rays;
-    double uploadSeconds = 0;
+    BvhStats bvh;
+    double uploadSeconds = 0;  // BVH build and buffer uploads
     double renderSeconds = 0;
 };
 
@@ -53,7 +54,7 @@ private:
     GpuScene scene_;
     ComputePipeline pipeline_;
     uint32_t layerCount_;
-    Buffer params_, primitives_, materials_, lights_, output_, counters_;
+    Buffer params_, primitives_, materials_, lights_, output_, counters_, bvhNodes_;
     vk::raii::DescriptorPool descriptorPool_{nullptr};
     vk::raii::DescriptorSet descriptorSet_{nullptr};
     double uploadSeconds_ = 0;

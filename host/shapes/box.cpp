@@ -10,4 +10,11 @@ gpu::Primitive packBox(const Box& b, uint32_t material) {
             .info = glm::uvec4(gpu::kShapeBox, material, 0, 0)};
 }
 
+Aabb boundsBox(const Box& box) {
+    Aabb b;
+    b.extend(glm::vec3(box.min));
+    b.extend(glm::vec3(box.max));
+    return b;
+}
+
 }  // namespace whitted

@@ -10,4 +10,6 @@ gpu::Primitive packPlane(const Plane& p, uint32_t material) {
             .info = glm::uvec4(gpu::kShapePlane, material, 0, 0)};
 }
 
+Aabb boundsPlane(const Plane&) { return Aabb::unbounded(); }
+
 }  // namespace whitted

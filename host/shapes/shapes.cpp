@@ -4,17 +4,22 @@
 
 namespace whitted {
 
-void appendPrimitives(const Shape& shape, uint32_t material, std::vector<gpu::Primitive>& out) {
+void appendPrimitives(const Shape& shape, uint32_t material, std::vector<gpu::Primitive>& out,
+                      std::vector<Aabb>& bounds) {
+    auto add = [&](const gpu::Primitive& p, const Aabb& b) {
+        out.push_back(p);
+        bounds.push_back(b);
+    };
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
-            if constexpr (std::is_same_v<T, Sphere>) out.push_back(packSphere(s, material));
-            else if constexpr (std::is_same_v<T, Cylinder>) out.push_back(packCylinder(s, material));
-            else if constexpr (std::is_same_v<T, Plane>) out.push_back(packPlane(s, material));
-            else if constexpr (std::is_same_v<T, Triangle>) out.push_back(packTriangle(s, material));
-            else if constexpr (std::is_same_v<T, Box>) out.push_back(packBox(s, material));
+            if constexpr (std::is_same_v<T, Sphere>) add(packSphere(s, material), boundsSphere(s));
+            else if constexpr (std::is_same_v<T, Cylinder>) add(packCylinder(s, material), boundsCylinder(s));
+            else if constexpr (std::is_same_v<T, Plane>) add(packPlane(s, material), boundsPlane(s));
+            else if constexpr (std::is_same_v<T, Triangle>) add(packTriangle(s, material), boundsTriangle(s));
+            else if constexpr (std::is_same_v<T, Box>) add(packBox(s, material), boundsBox(s));
             else if constexpr (std::is_same_v<T, Mesh>)
-                for (const Triangle& t : s.triangles) out.push_back(packTriangle(t, material));
+                for (const Triangle& t : s.triangles) add(packTriangle(t, material), boundsTriangle(t));
             else static_assert(sizeof(T) == 0, "unhandled shape");
         },
         shape);

@@ -3,6 +3,7 @@
 // intersection function per shape in shaders/shapes/.
 #pragma once
 
+#include "accel/aabb.h"
 #include "device_types.h"
 #include "scene/scene.h"
 
@@ -16,7 +17,16 @@ gpu::Primitive packPlane(const Plane& plane, uint32_t material);
 gpu::Primitive packTriangle(const Triangle& triangle, uint32_t material);
 gpu::Primitive packBox(const Box& box, uint32_t material);
 
-// Appends the primitives of any shape (a mesh becomes one triangle each).
-void appendPrimitives(const Shape& shape, uint32_t material, std::vector<gpu::Primitive>& out);
+// World-space bounds of each shape, for the BVH. A plane is unbounded.
+Aabb boundsSphere(const Sphere& sphere);
+Aabb boundsCylinder(const Cylinder& cylinder);
+Aabb boundsPlane(const Plane& plane);
+Aabb boundsTriangle(const Triangle& triangle);
+Aabb boundsBox(const Box& box);
+
+// Appends the primitives of any shape (a mesh becomes one triangle each)
+// and the bounds of each.
+void appendPrimitives(const Shape& shape, uint32_t material, std::vector<gpu::Primitive>& out,
+                      std::vector<Aabb>& bounds);
 
 }  // namespace whitted

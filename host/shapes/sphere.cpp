@@ -10,4 +10,11 @@ gpu::Primitive packSphere(const Sphere& s, uint32_t material) {
             .info = glm::uvec4(gpu::kShapeSphere, material, 0, 0)};
 }
 
+Aabb boundsSphere(const Sphere& s) {
+    Aabb b;
+    b.extend(glm::vec3(s.center - s.radius));
+    b.extend(glm::vec3(s.center + s.radius));
+    return b;
+}
+
 }  // namespace whitted

@@ -11,4 +11,12 @@ gpu::Primitive packTriangle(const Triangle& t, uint32_t material) {
             .info = glm::uvec4(gpu::kShapeTriangle, material, 0, 0)};
 }
 
+Aabb boundsTriangle(const Triangle& t) {
+    Aabb b;
+    b.extend(glm::vec3(t.v0));
+    b.extend(glm::vec3(t.v1));
+    b.extend(glm::vec3(t.v2));
+    return b;
+}
+
 }  // namespace whitted

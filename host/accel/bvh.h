@@ -1,0 +1,34 @@
+// Bounding volume hierarchy over the scene's bounded primitives, built on
+// the host and flattened for the shader (shaders/bvh.glsl traverses it).
+#pragma once
+
+#include "accel/aabb.h"
+#include "device_types.h"
+
+#include <span>
+#include <vector>
+
+namespace whitted {
+
+struct BvhStats {
+    double buildSeconds = 0;
+    uint32_t nodeCount = 0;
+    uint32_t leafCount = 0;
+    uint32_t maxDepth = 0;
+    double sahCost = 0;  // expected cost, in node-visit units
+};
+
+struct Bvh {
+    std::vector<gpu::BvhNode> nodes;     // nodes[0] is the root; children of an inner node are adjacent
+    std::vector<uint32_t> primitiveOrder;  // leaf ranges index this permutation of the input
+    BvhStats stats;
+};
+
+// Binned SAH build ("On fast Construction of SAH-based Bounding Volume
+// Hierarchies", Wald 2007): centroids are binned into kBins slabs per axis,
+// the split with the lowest surface-area cost wins, a node becomes a leaf
+// when splitting costs more than intersecting its primitives. Subtrees are
+// built in parallel on `threads` threads (0 = all cores).
+Bvh buildBvh(std::span<const Aabb> bounds, unsigned threads = 0);
+
+}  // namespace whitted
