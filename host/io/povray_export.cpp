@@ -1,0 +1,178 @@
+#include "io/povray_export.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <sstream>
+#include <variant>
+
+namespace whitted {
+namespace {
+
+// Shortest text that reads back as the same double.
+std::string num(double v) {
+    if (v == 0.0) return "0";  // also turns -0 into 0
+    char buffer[32];
+    for (int precision = 6; precision <= 17; ++precision) {
+        std::snprintf(buffer, sizeof buffer, "%.*g", precision, v);
+        if (std::strtod(buffer, nullptr) == v) break;
+    }
+    return buffer;
+}
+
+std::string vec(const glm::dvec3& v) { return "<" + num(v.x) + ", " + num(v.y) + ", " + num(v.z) + ">"; }
+
+bool isGrey(const glm::dvec3& c) { return c.r == c.g && c.g == c.b; }
+
+std::string where(const Scene& scene, const Object& object) {
+    return scene.sourcePath.string() + ":" + std::to_string(object.sourceLine);
+}
+
+// pigment, finish and interior of one object (see the header for the
+// mapping and for what is not exact).
+std::string texture(const Material& m, bool shadows) {
+    std::ostringstream s;
+    if (!shadows) s << "  no_shadow\n";
+    if (m.transmission > 0.0) {
+        // Shadow rays through the surface are filtered by filter·Cd +
+        // transmit = kt·mix(white, Cd, kd) per crossing, exactly as ours.
+        // Approximate: refracted light is filtered the same way (ours: kt
+        // alone) and POV-Ray dims the local terms by the pigment's opacity.
+        s << "  pigment { rgbft <" << num(m.diffuseColor.r) << ", " << num(m.diffuseColor.g) << ", "
+          << num(m.diffuseColor.b) << ", " << num(m.transmission * m.diffuse) << ", "
+          << num(m.transmission * (1.0 - m.diffuse)) << "> }\n";
+    } else {
+        s << "  pigment { rgb " << vec(m.diffuseColor) << " }\n";
+    }
+    // Every finish value is written, so POV-Ray's defaults (ambient 0.1,
+    // diffuse 0.6, phong_size 40, ...) never apply.
+    s << "  finish {\n"
+      << "    ambient " << num(m.ambient) << " emission 0\n"
+      << "    diffuse " << num(m.diffuse) << " brilliance 1 crand 0\n";
+    double phong = m.specular * (m.specularColor.r + m.specularColor.g + m.specularColor.b) / 3.0;
+    s << "    phong " << num(phong) << " phong_size " << num(m.shininess) << "\n"
+      << "    specular 0 metallic 0\n";
+    glm::dvec3 reflection = m.reflection * m.specularColor;
+    s << "    reflection { rgb " << vec(reflection) << " }\n"
+      << "  }\n";
+    if (m.transmission > 0.0) s << "  interior { ior " << num(m.ior) << " }\n";
+    return s.str();
+}
+
+std::string triangleBody(const Triangle& t) {
+    return "triangle { " + vec(t.v0) + ", " + vec(t.v1) + ", " + vec(t.v2) + " }";
+}
+
+// A triangle without area renders nothing here; POV-Ray would warn about it.
+bool degenerate(const Triangle& t) { return glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)) == 0.0; }
+
+struct ShapeWriter {
+    std::ostringstream& s;
+    const std::string& material;
+
+    void operator()(const Sphere& sp) const {
+        s << "sphere { " << vec(sp.center) << ", " << num(sp.radius) << "\n" << material << "}\n";
+    }
+    void operator()(const Cylinder& c) const {
+        glm::dvec3 top = c.base + glm::normalize(c.axis) * c.height;
+        // Capped unless "open" is given, like ours.
+        s << "cylinder { " << vec(c.base) << ", " << vec(top) << ", " << num(c.radius) << "\n" << material << "}\n";
+    }
+    void operator()(const Plane& p) const {
+        glm::dvec3 n = glm::normalize(p.normal);
+        s << "plane { " << vec(n) << ", " << num(glm::dot(n, p.point)) << "\n" << material << "}\n";
+    }
+    void operator()(const Triangle& t) const {
+        if (degenerate(t)) return;
+        s << "triangle { " << vec(t.v0) << ", " << vec(t.v1) << ", " << vec(t.v2) << "\n" << material << "}\n";
+    }
+    void operator()(const Box& b) const {
+        s << "box { " << vec(b.min) << ", " << vec(b.max) << "\n" << material << "}\n";
+    }
+    void operator()(const Mesh& m) const {
+        // POV-Ray refuses an empty mesh.
+        if (std::all_of(m.triangles.begin(), m.triangles.end(), degenerate)) return;
+        s << "mesh {\n";
+        for (const Triangle& t : m.triangles)
+            if (!degenerate(t)) s << "  " << triangleBody(t) << "\n";
+        s << material << "}\n";
+    }
+};
+
+}  // namespace
+
+std::string exportPovray(const Scene& scene, const PovrayExportOptions& options) {
+    const Camera& camera = scene.camera;
+    int width = options.width > 0 ? options.width : camera.width;
+    int height = options.height > 0 ? options.height : camera.height;
+
+    std::ostringstream s;
+    s << "// Exported by whitted from " << scene.sourcePath.string() << " for " << width << "x" << height
+      << ", max depth " << options.maxDepth << ".\n"
+      << "// Render: povray -D +W" << width << " +H" << height << " +FE File_Gamma=1.0 +I<this file>\n"
+      << "#version 3.7;\n\n";
+
+    // max_trace_level counts the camera ray as level 1 (TraceRay refuses a
+    // ray once traceLevel >= max_trace_level, and the camera ray starts at
+    // 0); our max depth counts secondary bounces only. adc_bailout 0: no
+    // ray is dropped for a small weight (ours never drops one).
+    s << "global_settings {\n"
+      << "  assumed_gamma 1.0\n"
+      << "  ambient_light rgb " << vec(scene.ambientLight) << "\n"
+      << "  max_trace_level " << options.maxDepth + 1 << "\n"
+      << "  adc_bailout 0\n"
+      << "}\n"
+      << "background { rgb 0 }\n\n";
+
+    // Our camera frame (host/render/gpu_scene.cpp): right = cross(forward,
+    // up), up' = cross(right, forward), the window spanning
+    // ±tan(fov/2)·aspect and ±tan(fov/2) at unit distance. POV-Ray's
+    // perspective camera shoots direction + x·right + y·up with x, y in
+    // [-1/2, 1/2] (x growing to the right of the image, y to the top), so
+    // right and up are the full window extents. Given explicitly (no
+    // look_at, no sky), these vectors are used as they are: the same rays
+    // in the same coordinates, whatever the handedness.
+    glm::dvec3 forward = glm::normalize(camera.windowCenter - camera.eye);
+    glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
+    glm::dvec3 up = glm::cross(right, forward);
+    double tanHalf = std::tan(glm::radians(camera.verticalFovDegrees) / 2.0);
+    double aspect = double(width) / double(height);
+    s << "camera {\n"
+      << "  perspective\n"
+      << "  location " << vec(camera.eye) << "\n"
+      << "  direction " << vec(forward) << "\n"
+      << "  right " << vec(right * (2.0 * tanHalf * aspect)) << "\n"
+      << "  up " << vec(up * (2.0 * tanHalf)) << "\n"
+      << "}\n\n";
+
+    // Point lights; POV-Ray's default fade_power 0 means no falloff.
+    for (const PointLight& light : scene.lights)
+        s << "light_source { " << vec(light.position) << " color rgb " << vec(light.color) << " }\n";
+    s << "\n";
+
+    for (const Object& object : scene.objects) {
+        if (object.sourceLine > 0) s << "// " << where(scene, object) << "\n";
+        std::string material = texture(object.material, options.shadows);
+        std::visit(ShapeWriter{s, material}, object.shape);
+    }
+    return s.str();
+}
+
+std::vector<std::string> povrayInexactMappings(const Scene& scene) {
+    std::vector<std::string> notes;
+    for (const Object& object : scene.objects) {
+        const Material& m = object.material;
+        if (m.specular > 0.0 && !isGrey(m.specularColor))
+            notes.push_back(where(scene, object) +
+                            ": a Phong highlight with a coloured specular_color (POV-Ray's phong highlight takes "
+                            "the light's colour; exported as ks times the mean of Cs)");
+        if (m.transmission > 0.0)
+            notes.push_back(where(scene, object) +
+                            ": transmission (POV-Ray dims the local terms by the pigment's opacity and filters "
+                            "refracted light by the pigment; exported approximately, its shadows exactly)");
+    }
+    return notes;
+}
+
+}  // namespace whitted

@@ -1,0 +1,52 @@
+// Writes a scene as POV-Ray 3.7 scene description language (SDL), for an
+// independent cross-check of the renderer against POV-Ray (see README
+// "Cross-check against POV-Ray" and tests/povray_test.cpp).
+//
+// What maps exactly (POV-Ray 3.7 source: backend/render/trace.cpp,
+// ComputeLightedTexture / ComputeDiffuseColour / ComputePhongColour):
+//   ka·Cd·A            finish ambient ka, global ambient_light A
+//   kd·Cd·max(N·L,0)   finish diffuse kd (brilliance 1, no albedo, crand 0)
+//   ks·max(R·V,0)^n    finish phong ks phong_size n: POV-Ray's highlight has
+//                      the LIGHT's colour, so ks·Cs·light is exact only when
+//                      Cs is grey (phong ks·Cs); otherwise ks·mean(Cs)
+//   kr·Cs·reflected    finish reflection { rgb kr·Cs } (min = max, no
+//                      fresnel, falloff 1, exponent 1, not metallic)
+//   point lights       light_source without fade: no falloff, like ours
+//   recursion          max_trace_level D+1 (POV-Ray counts the camera ray
+//                      as level 1; we count secondary bounces), adc_bailout 0
+//   shadows of glass   pigment { rgbft <Cd, kt·kd, kt·(1-kd)> }: POV-Ray
+//                      filters a shadow ray at each surface crossing by
+//                      filter·Cd + transmit = kt·mix(white, Cd, kd), as ours
+// What does not: the look of a transparent surface (POV-Ray scales its local
+// terms by the pigment's opacity and filters refracted light by the pigment,
+// where we weight it by kt alone); exported approximately, with
+// interior { ior }. povrayInexactMappings() lists every such place in a
+// scene.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <string>
+#include <vector>
+
+namespace whitted {
+
+struct PovrayExportOptions {
+    int width = 0;     // pixels; 0: the scene camera's
+    int height = 0;
+    int maxDepth = 6;  // secondary bounces, as RenderSettings::maxDepth
+    bool shadows = true;  // false: every object gets no_shadow (a control for tests)
+};
+
+// POV-Ray SDL for the whole scene. The coordinates are kept as they are
+// (POV-Ray is left-handed, we are right-handed): the camera is written with
+// explicit direction/right/up vectors computed from our camera frame, which
+// POV-Ray uses verbatim, so every pixel gets the same ray as in our
+// renderer and the image is not mirrored.
+std::string exportPovray(const Scene& scene, const PovrayExportOptions& options);
+
+// One line per object whose material POV-Ray cannot reproduce exactly
+// ("FILE:LINE: what"); empty when the export is exact.
+std::vector<std::string> povrayInexactMappings(const Scene& scene);
+
+}  // namespace whitted
