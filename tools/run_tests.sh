@@ -10,3 +10,8 @@ cmake --build build
 ctest --test-dir build --output-on-failure
 
 # ---- Extra suites (sanitizers, fuzzing) ----
+# The whole ctest suite again, built with AddressSanitizer and
+# UndefinedBehaviorSanitizer (build-asan; about 5 minutes on 2 cores).
+tools/run_sanitized_tests.sh
+# The scene loader under libFuzzer for 60 s (build-fuzz; about 75 s in all).
+tools/run_fuzzer.sh 60

@@ -331,6 +331,11 @@ public:
             diag_.fail(root, "root element is " + tag(root->Name()) + ", expected <scene>");
         if (const XMLElement* second = root->NextSiblingElement())
             diag_.fail(second, "second root element " + tag(second->Name()) + "; a scene file holds one <scene>");
+        // tinyxml2 keeps text beside the root element ("junk <scene>...")
+        // without complaint.
+        for (const XMLNode* node = doc.FirstChild(); node; node = node->NextSibling())
+            if (const XMLText* text = node->ToText(); text && !trimmed(text->Value()).empty())
+                diag_.fail(text, "unexpected text " + inQuotes(trimmed(text->Value())) + " outside <scene>");
 
         ElementReader s(diag_, root, {{"camera"}, {"lights"}, {"objects"}, {"ambient_light"}});
         scene_.camera = readCamera(s.required("camera"));
@@ -602,7 +607,16 @@ private:
             return Cylinder{position, axis ? direction(axis) : glm::dvec3(0, 1, 0), radius, height};
         }
         if (type == "plane") return Plane{position, direction(need("normal"))};
-        if (type == "box") return Box{position, position + vector(need("size"), kPositive)};
+        if (type == "box") {
+            const XMLElement* sizeElement = need("size");
+            Box box{position, position + vector(sizeElement, kPositive)};
+            // A size far below the position's magnitude vanishes when added.
+            for (int i = 0; i < 3; ++i)
+                if (!(box.min[i] < box.max[i]))
+                    diag_.fail(sizeElement, std::string("<size> ") + "xyz"[i] +
+                                                " is too small to register beside the <position>; the box would be flat");
+            return box;
+        }
         if (type == "triangle") {
             if (properties.all("vertex").empty()) missing("vertex");
             Triangle t = readTriangle(properties.element(), properties.all("vertex"), position);
@@ -653,12 +667,28 @@ std::string xmlErrorMessage(const tinyxml2::XMLDocument& doc) {
     size_t lineField = full.find("Line number=");
     size_t detail = lineField == std::string::npos ? std::string::npos : full.find(": ", lineField);
     if (detail != std::string::npos) message += " (" + full.substr(detail + 2) + ")";
+    // tinyxml2's catch-all: a node that starts on this line did not parse and
+    // said nothing more; mostly an element the file ends inside, or a '<'
+    // that starts no valid tag.
+    else if (doc.ErrorID() == tinyxml2::XML_ERROR_PARSING)
+        message += " (a tag that starts on this line is invalid or never closed)";
     return message;
+}
+
+// The line of xml[offset], counting from 1.
+int lineOf(std::string_view xml, size_t offset) {
+    return 1 + int(std::count(xml.begin(), xml.begin() + std::ptrdiff_t(offset), '\n'));
 }
 
 }  // namespace
 
 Scene loadSceneFromString(std::string_view xml, const std::filesystem::path& name) {
+    // tinyxml2 reads UTF-8 only, and stops at a NUL byte: it would take
+    // whatever came before it as the whole file.
+    if (xml.starts_with("\xFF\xFE") || xml.starts_with("\xFE\xFF"))
+        throw SceneError(name.string(), 1, "the file is UTF-16; a scene file is UTF-8 XML text");
+    if (size_t nul = xml.find('\0'); nul != std::string_view::npos)
+        throw SceneError(name.string(), lineOf(xml, nul), "NUL byte; a scene file is UTF-8 XML text, not binary data");
     tinyxml2::XMLDocument doc;
     if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
         throw SceneError(name.string(), doc.ErrorLineNum(), xmlErrorMessage(doc));

@@ -1,0 +1,283 @@
+// Bad input, end to end: the real `whitted` executable run on every file of
+// the bad-input catalogue (tests/bad_scenes/, messages in its expected.txt)
+// and on the degenerate but legal scenes (tests/legal_scenes/).
+//
+// * BadInput/BadSceneTest.*: refused. Exit status 2, the exact "FILE:LINE: message" on
+//   stderr, and the output untouched: `-o` naming a file that does not exist
+//   creates nothing, `-o` naming an existing file leaves it as it was, and no
+//   *.partial* file is left behind.
+// * DegenerateButLegal/LegalSceneTest.*: accepted. Exit status 0, an image, and the exact warnings.
+#include "test_support.h"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+namespace whitted::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path badScenesDir() { return sourceDir() / "tests" / "bad_scenes"; }
+fs::path legalScenesDir() { return sourceDir() / "tests" / "legal_scenes"; }
+
+std::string readFile(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::vector<std::string> linesOf(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    return lines;
+}
+
+struct ProcessResult {
+    int status;  // exit status, or -1 if the process did not exit normally
+    std::string out, err;
+};
+
+fs::path stdoutFile(const fs::path& cwd) { return cwd.parent_path() / (cwd.filename().string() + ".stdout"); }
+fs::path stderrFile(const fs::path& cwd) { return cwd.parent_path() / (cwd.filename().string() + ".stderr"); }
+
+// Starts the executable with `args` in folder `cwd`, no shell involved. Its
+// stdout and stderr go to files beside `cwd`, not in it, so that `cwd` holds
+// only what the executable wrote. Returns the process id, or -1.
+pid_t startWhitted(const std::vector<std::string>& args, const fs::path& cwd) {
+    std::vector<std::string> argStrings{WHITTED_EXECUTABLE};
+    argStrings.insert(argStrings.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& a : argStrings) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string dir = cwd.string(), out = stdoutFile(cwd).string(), err = stderrFile(cwd).string();
+
+    pid_t pid = ::fork();
+    if (pid == 0) {  // only async-signal-safe calls until exec
+        int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        if (o < 0 || e < 0 || ::dup2(o, 1) < 0 || ::dup2(e, 2) < 0 || ::chdir(dir.c_str()) != 0) ::_exit(127);
+        ::execv(argv[0], argv.data());
+        ::_exit(127);
+    }
+    return pid;
+}
+
+// Waits for a process startWhitted() started in `cwd`.
+ProcessResult finishWhitted(pid_t pid, const fs::path& cwd) {
+    int status = 0;
+    if (pid < 0 || ::waitpid(pid, &status, 0) != pid) return {-1, "", "fork or waitpid failed"};
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, readFile(stdoutFile(cwd)), readFile(stderrFile(cwd))};
+}
+
+ProcessResult runWhitted(const std::vector<std::string>& args, const fs::path& cwd) {
+    return finishWhitted(startWhitted(args, cwd), cwd);
+}
+
+// A fresh, empty folder.
+fs::path freshDir(const fs::path& dir) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+// Everything under `dir`, as paths relative to it.
+std::set<std::string> contentsOf(const fs::path& dir) {
+    std::set<std::string> names;
+    for (const auto& entry : fs::recursive_directory_iterator(dir))
+        names.insert(fs::relative(entry.path(), dir).string());
+    return names;
+}
+
+std::set<std::string> partialFilesUnder(const fs::path& dir) {
+    std::set<std::string> partial;
+    for (const std::string& name : contentsOf(dir))
+        if (name.find(".partial") != std::string::npos) partial.insert(name);
+    return partial;
+}
+
+bool hasLine(const std::string& text, const std::string& line) {
+    std::vector<std::string> lines = linesOf(text);
+    return std::find(lines.begin(), lines.end(), line) != lines.end();
+}
+
+// ---- The catalogue -------------------------------------------------------------------
+
+struct BadCase {
+    std::string file;      // name in tests/bad_scenes/, or of a generated case
+    std::string expected;  // the stderr line, with FILE for the path given
+};
+
+void PrintTo(const BadCase& c, std::ostream* os) { *os << c.file; }
+
+// tests/bad_scenes/expected.txt: FILENAME<TAB>MESSAGE lines; # comments.
+std::vector<BadCase> manifest() {
+    std::vector<BadCase> cases;
+    for (const std::string& line : linesOf(readFile(badScenesDir() / "expected.txt"))) {
+        if (line.empty() || line[0] == '#') continue;
+        size_t tab = line.find('\t');
+        if (tab == std::string::npos) throw std::runtime_error("expected.txt: no tab in \"" + line + "\"");
+        cases.push_back({line.substr(0, tab), line.substr(tab + 1)});
+    }
+    return cases;
+}
+
+// The cases the manifest names that are made here rather than committed. Each
+// writes its input at `path`.
+const std::map<std::string, void (*)(const fs::path&)>& generatedCases() {
+    static const std::map<std::string, void (*)(const fs::path&)> cases = {
+        // 10^6 nested elements (7 MB): the XML parser must stop at its depth
+        // limit rather than recurse a million times.
+        {"million_deep_nesting.xml",
+         [](const fs::path& path) {
+             constexpr int kDepth = 1000000;
+             std::string xml = "<!-- case: a million nested elements -->\n<scene>";
+             xml.reserve(xml.size() + size_t(kDepth) * 7 + 16);
+             for (int i = 0; i < kDepth; ++i) xml += "<a>";
+             for (int i = 0; i < kDepth; ++i) xml += "</a>";
+             xml += "</scene>\n";
+             std::ofstream(path, std::ios::binary) << xml;
+         }},
+        {"nonexistent.xml", [](const fs::path&) {}},
+        {"directory.xml", [](const fs::path& path) { fs::create_directories(path); }},
+    };
+    return cases;
+}
+
+// Test names may hold letters, digits and underscores only.
+std::string testName(const std::string& file) {
+    std::string name = fs::path(file).stem().string();
+    for (char& c : name)
+        if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    return name;
+}
+
+class BadSceneTest : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(BadSceneTest, IsRefusedWithoutTouchingTheOutput) {
+    const BadCase& c = GetParam();
+    const fs::path root = outputDir() / "bad_input" / testName(c.file);
+    freshDir(root);
+
+    fs::path scene = badScenesDir() / c.file;
+    if (auto generated = generatedCases().find(c.file); generated != generatedCases().end()) {
+        scene = freshDir(root / "input") / c.file;
+        generated->second(scene);
+    }
+    std::string expected = c.expected;
+    ASSERT_EQ(expected.rfind("FILE", 0), 0u) << "expected.txt: the message must start with FILE";
+    expected.replace(0, 4, scene.string());
+
+    // Two runs, side by side: (a) -o names a file that does not exist,
+    // (b) -o names an existing file.
+    const fs::path fresh = freshDir(root / "fresh");
+    const fs::path existing = freshDir(root / "existing");
+    const std::string previous = "previous contents, not a PNG\n";
+    std::ofstream(existing / "out.png", std::ios::binary) << previous;
+    pid_t pa = startWhitted({"render", scene.string(), "-o", "out.png"}, fresh);
+    pid_t pb = startWhitted({"render", scene.string(), "-o", "out.png"}, existing);
+    ProcessResult a = finishWhitted(pa, fresh);
+    ProcessResult b = finishWhitted(pb, existing);
+
+    // (a) Nothing is created.
+    EXPECT_EQ(a.status, 2) << a.err;
+    EXPECT_TRUE(hasLine(a.err, expected)) << "expected on stderr:\n  " << expected << "\ngot:\n" << a.err;
+    EXPECT_EQ(a.out, "");
+    EXPECT_EQ(contentsOf(fresh), std::set<std::string>{}) << "a refused render created files";
+
+    // (b) The existing file keeps its contents.
+    EXPECT_EQ(b.status, 2) << b.err;
+    EXPECT_TRUE(hasLine(b.err, expected)) << "expected on stderr:\n  " << expected << "\ngot:\n" << b.err;
+    EXPECT_EQ(readFile(existing / "out.png"), previous) << "a refused render clobbered its output";
+    EXPECT_EQ(contentsOf(existing), std::set<std::string>{"out.png"});
+
+    EXPECT_EQ(partialFilesUnder(root), std::set<std::string>{});
+    if (!generatedCases().contains(c.file)) {
+        EXPECT_EQ(partialFilesUnder(badScenesDir()), std::set<std::string>{});
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(BadInput, BadSceneTest, ::testing::ValuesIn(manifest()),
+                         [](const auto& info) { return testName(info.param.file); });
+
+// The manifest and the folder agree, every case says what it is, and the
+// catalogue stays at least 30 cases strong.
+TEST(BadSceneCatalogue, ManifestMatchesTheFiles) {
+    std::vector<BadCase> cases = manifest();
+    EXPECT_GE(cases.size(), 30u);
+    std::set<std::string> listed;
+    for (const BadCase& c : cases) {
+        EXPECT_TRUE(listed.insert(c.file).second) << c.file << " is listed twice";
+        EXPECT_TRUE(fs::is_regular_file(badScenesDir() / c.file) || generatedCases().contains(c.file))
+            << c.file << " is listed in expected.txt but is neither in tests/bad_scenes/ nor generated";
+        EXPECT_FALSE(fs::exists(badScenesDir() / c.file) && generatedCases().contains(c.file)) << c.file;
+    }
+    for (const auto& entry : fs::directory_iterator(badScenesDir())) {
+        std::string name = entry.path().filename().string();
+        if (name == "expected.txt") continue;
+        EXPECT_TRUE(listed.contains(name)) << name << " has no line in expected.txt";
+        // Its first bytes state the case; the empty file and the UTF-16 one
+        // cannot.
+        if (name == "empty.xml" || name == "utf16.xml") continue;
+        std::string text = readFile(entry.path());
+        if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
+        EXPECT_TRUE(text.starts_with("<!-- case: ")) << name << " does not start with <!-- case: ... -->";
+    }
+}
+
+// ---- Degenerate but legal ------------------------------------------------------------
+
+struct LegalCase {
+    std::string file;                   // in tests/legal_scenes/
+    std::vector<std::string> warnings;  // stderr "warning: " lines, FILE for the path
+};
+
+void PrintTo(const LegalCase& c, std::ostream* os) { *os << c.file; }
+
+class LegalSceneTest : public ::testing::TestWithParam<LegalCase> {};
+
+TEST_P(LegalSceneTest, RendersWithAWarning) {
+    const LegalCase& c = GetParam();
+    const fs::path scene = legalScenesDir() / c.file;
+    const fs::path dir = freshDir(outputDir() / "legal_input" / testName(c.file));
+    ProcessResult r = runWhitted({"render", scene.string(), "-o", "out.png", "--width", "16", "--height", "12", "--aov", "none",
+                        "-q"},
+                       dir);
+    ASSERT_EQ(r.status, 0) << r.err;
+    std::vector<std::string> warnings;
+    for (const std::string& line : linesOf(r.err))
+        if (line.starts_with("warning: ")) warnings.push_back(line);
+    std::vector<std::string> expected;
+    for (std::string w : c.warnings) expected.push_back("warning: " + w.replace(0, 4, scene.string()));
+    EXPECT_EQ(warnings, expected) << r.err;
+    EXPECT_EQ(contentsOf(dir), std::set<std::string>{"out.png"});
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    DegenerateButLegal, LegalSceneTest,
+    ::testing::Values(
+        LegalCase{"no_lights.xml", {"FILE:7: scene has no lights; only ambient light will show"}},
+        LegalCase{"no_objects.xml", {"FILE:13: scene has no objects; the image will be black"}},
+        LegalCase{"empty_scene.xml",
+                   {"FILE:7: scene has no lights; only ambient light will show",
+                    "FILE:8: scene has no objects; the image will be black"}},
+        LegalCase{"degenerate_polygon_in_mesh.xml", {"FILE:24: degenerate polygon skipped"}}),
+    [](const auto& info) { return testName(info.param.file); });
+
+TEST(LegalSceneCatalogue, EveryFileIsTested) {
+    std::set<std::string> files;
+    for (const auto& entry : fs::directory_iterator(legalScenesDir())) files.insert(entry.path().filename().string());
+    EXPECT_EQ(files, (std::set<std::string>{"no_lights.xml", "no_objects.xml", "empty_scene.xml",
+                                            "degenerate_polygon_in_mesh.xml"}));
+}
+
+}  // namespace
+}  // namespace whitted::test
