@@ -144,6 +144,24 @@ TEST(Cli, DeviceIsChosenByNameOrRefusedClearly) {
     EXPECT_FALSE(fs::exists(dir / "out2.png"));
 }
 
+// The largest image the format allows, with every auxiliary layer, needs
+// 36 GiB of output buffer: no device's storage buffer limit reaches that
+// (lavapipe's is 128 MiB, NVIDIA's 4 GiB). It must be refused with the reason
+// before anything is allocated, and leave an existing output alone.
+TEST(Cli, ImageBeyondTheDeviceLimitsIsAClearError) {
+    fs::path dir = scratchDir("device_limits");
+    std::ofstream(dir / "existing.png") << "previous contents";
+    CommandRun r = runWhitted("render " + scene("three_diffuse_spheres.xml") +
+                                  " -o existing.png --width 16384 --height 16384 --aov all", dir);
+    EXPECT_EQ(r.status, 1) << r.output;
+    EXPECT_NE(r.output.find("whitted: the image and its auxiliary layers need 36864 MiB, more than this device's "
+                            "storage buffer limit of "),
+              std::string::npos) << r.output;
+    std::ifstream existing(dir / "existing.png");
+    EXPECT_EQ(std::string((std::istreambuf_iterator<char>(existing)), {}), "previous contents");
+    EXPECT_FALSE(fs::exists(dir / "existing.ambient.png"));
+}
+
 TEST(Cli, DevicesListsLavapipeOrAGpu) {
     CommandRun r = runWhitted("devices");
     EXPECT_EQ(r.status, 0);

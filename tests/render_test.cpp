@@ -201,5 +201,109 @@ TEST(RenderAnalytic, MirrorReflectsWithSpecularColourWeight) {
     EXPECT_NEAR(pixel(r, gpu::kAovReflection, 0, 0).g, 0.0f, kTolerance) << "the reflected ray misses near the corner";
 }
 
+// The primary ray through pixel (x, y) of a w x h image from the camera of
+// sceneXml (eye at the origin, looking down -z, 60 degree vertical fov), in
+// double precision. Pixel centres: with 1 spp the sample is the centre.
+glm::dvec3 cameraRay(int x, int y, int w, int h) {
+    const double tanHalf = std::tan(glm::radians(60.0) / 2.0), aspect = double(w) / h;
+    return glm::normalize(glm::dvec3((2.0 * (x + 0.5) / w - 1.0) * tanHalf * aspect,
+                                     (1.0 - 2.0 * (y + 0.5) / h) * tanHalf, -1.0));
+}
+
+// Snell's law in double precision: d refracted at a surface with normal n
+// (facing the incoming ray) from index 1 into index eta2/eta1 = 1/eta.
+glm::dvec3 snell(glm::dvec3 d, glm::dvec3 n, double eta) {
+    double cosi = -glm::dot(n, d);
+    double k = 1.0 - eta * eta * (1.0 - cosi * cosi);
+    return glm::normalize(eta * d + (eta * cosi - std::sqrt(k)) * n);
+}
+
+// A glass slab (a wide box from z = -2 to z = -8, IOR 1.5, kt 1, no other
+// term) in front of a lit half-space (an ambient-only box for x > 8,
+// z = -10 .. -11). Each ray leaves the slab parallel to itself, shifted sideways by
+// thickness * sin(i - r) / cos(r) (Snell: sin i = 1.5 sin r), so the edge of
+// the lit box appears moved towards the centre of the image. Every pixel's
+// transmission is predicted by refracting its ray in double precision.
+TEST(RenderAnalytic, GlassSlabShiftsRaysAsSnellSays) {
+    const int w = 96, h = 24;
+    const double edge = 8.0, ior = 1.5;
+    std::string slab = R"(<object><position x="-100" y="-100" z="-8"/><properties><type>box</type>)"
+                       R"(<size x="200" y="200" z="6"/><diffuse_coef>0</diffuse_coef><transmission_coef>1</transmission_coef>)"
+                       R"(<refraction_coef>1.5</refraction_coef></properties></object>)";
+    std::string lit = R"(<object><position x="8" y="-100" z="-11"/><properties><type>box</type>)"
+                      R"(<size x="100" y="200" z="1"/><ambiente_coef>1</ambiente_coef><diffuse_coef>0</diffuse_coef></properties></object>)";
+    RenderResult r = renderXml(sceneXml("", slab + lit), {.width = w, .height = h, .samplesPerPixel = 1, .maxDepth = 6, .auxiliary = true});
+    int litPixels = 0, shifted = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            glm::dvec3 d = cameraRay(x, y, w, h);
+            glm::dvec3 p1 = d * (2.0 / -d.z);                      // enters at z = -2
+            glm::dvec3 inside = snell(d, {0, 0, 1}, 1.0 / ior);
+            glm::dvec3 p2 = p1 + inside * (6.0 / -inside.z);       // leaves at z = -8
+            glm::dvec3 out = snell(inside, {0, 0, 1}, ior);        // parallel to d again
+            // The lit box spans z = -10 .. -11: the ray meets it on its front
+            // face or, passing just beside it, on its side face x = 8.
+            double hitX = std::max((p2 + out * (2.0 / -out.z)).x, (p2 + out * (3.0 / -out.z)).x);
+            double straightX = std::max((d * (10.0 / -d.z)).x, (d * (11.0 / -d.z)).x);
+            EXPECT_NEAR(glm::length(out - d), 0.0, 1e-12);
+            if (std::abs(hitX - edge) < 0.02) continue;  // too close to the edge to call
+            float expected = hitX > edge ? 1.0f : 0.0f;
+            EXPECT_NEAR(pixel(r, gpu::kAovTransmission, x, y).r, expected, kTolerance) << "pixel " << x << "," << y;
+            litPixels += expected > 0;
+            shifted += (straightX > edge) != (hitX > edge);
+        }
+    EXPECT_GT(litPixels, 100);
+    EXPECT_GE(shifted, 2 * h) << "the shift must move the edge by whole pixels, or this test proves nothing";
+}
+
+// Shadows take the colour of glass: a floor lit from above through a glass
+// sphere (kt 0.8, kd 0.5, Cd reddish) receives light filtered by
+// kt * mix(white, Cd, kd) at each of the two crossings of the sphere, and
+// the full light elsewhere. Every floor pixel's diffuse term is predicted in
+// double precision, shadow rays included.
+TEST(RenderAnalytic, ShadowThroughGlassTakesItsColour) {
+    const int w = 64, h = 48;
+    const glm::dvec3 light(0, 4, -4), center(0, 0, -4);
+    const double radius = 0.9;
+    const glm::dvec3 cd(1.0, 0.2, 0.4), filter = 0.8 * glm::mix(glm::dvec3(1.0), cd, 0.5);
+    std::string lights = R"(<light><position x="0" y="4" z="-4"/><color r="1" g="1" b="1"/></light>)";
+    std::string floor = R"(<object><position x="0" y="-1" z="0"/><properties><type>plane</type>)"
+                        R"(<normal x="0" y="1" z="0"/></properties></object>)";
+    std::string glass = sphereXml(R"(x="0" y="0" z="-4")", radius,
+                                  "<diffuse_coef>0.5</diffuse_coef><transmission_coef>0.8</transmission_coef>"
+                                  "<refraction_coef>1.5</refraction_coef>",
+                                  R"(r="1" g="0.2" b="0.4")");
+    RenderResult r = renderXml(sceneXml(lights, floor + glass), {.width = w, .height = h, .samplesPerPixel = 1, .maxDepth = 0, .auxiliary = true});
+    // Crossings of the segment from p to the light with the sphere: 0 or 2,
+    // or -1 when the segment grazes it too closely to call.
+    auto crossings = [&](glm::dvec3 p) {
+        glm::dvec3 toLight = light - p;
+        double dist = glm::length(toLight);
+        glm::dvec3 l = toLight / dist;
+        double b = glm::dot(p - center, l), c = glm::dot(p - center, p - center) - radius * radius;
+        double disc = b * b - c;
+        if (std::abs(disc) < 1e-3) return -1;
+        return disc > 0 && -b - std::sqrt(disc) > 0 ? 2 : 0;
+    };
+    int tinted = 0, open = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            glm::dvec3 d = cameraRay(x, y, w, h);
+            if (d.y >= -1e-3) continue;  // above the horizon
+            double bs = glm::dot(-center, d), cs = glm::dot(center, center) - radius * radius;
+            if (bs * bs - cs > -1e-3) continue;  // sees the sphere, or nearly
+            glm::dvec3 p = d * (-1.0 / d.y);
+            int n = crossings(p);
+            if (n < 0) continue;
+            double nDotL = glm::normalize(light - p).y;
+            glm::dvec3 expected = nDotL * (n == 2 ? filter * filter : glm::dvec3(1.0));
+            glm::vec4 got = pixel(r, gpu::kAovDiffuse, x, y);
+            for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(got[ch], expected[ch], kTolerance) << "pixel " << x << "," << y;
+            (n == 2 ? tinted : open) += 1;
+        }
+    EXPECT_GT(tinted, 20);
+    EXPECT_GT(open, 200);
+}
+
 }  // namespace
 }  // namespace whitted::test
