@@ -9,7 +9,12 @@
 // inside the radius. Each candidate is tested on its own and the nearest wins,
 // so a ray never takes a cap's plane for the cap (the seed's phantom-shadow
 // bug) and the normal comes from the part that was hit, not guessed from the
-// point afterwards.
+// point afterwards. Where side and cap meet, the side's height test and the
+// cap's radius test round differently, so a ray through the rim could fail
+// both and slip into the cylinder (a crack along the rim): both tests are
+// widened by a slack of a few float ulps of the numbers involved, so the
+// parts overlap by that much instead (as watertight triangle tests make
+// shared edges count for both triangles).
 bool intersectCylinder(vec3 base, vec3 axis, float radius, float height, Ray ray, float tMin,
                        inout float tHit, out vec3 normal) {
     vec3 o = ray.origin - base;
@@ -18,6 +23,8 @@ bool intersectCylinder(vec3 base, vec3 axis, float radius, float height, Ray ray
     vec3 op = o - oa * axis;
     vec3 dp = ray.dir - da * axis;
     float r2 = radius * radius;
+    float slack = 1e-6 * (length(o) + radius + height);
+    float capR2 = (radius + slack) * (radius + slack);
     bool found = false;
 
     // Side.
@@ -33,7 +40,7 @@ bool intersectCylinder(vec3 base, vec3 axis, float radius, float height, Ray ray
             for (int i = 0; i < 2; ++i) {
                 float t = roots[i];
                 float h = oa + t * da;
-                if (t > tMin && t < tHit && h >= 0.0 && h <= height) {
+                if (t > tMin && t < tHit && h >= -slack && h <= height + slack) {
                     tHit = t;
                     vec3 radial = op + t * dp;
                     normal = radial / radius;
@@ -49,7 +56,7 @@ bool intersectCylinder(vec3 base, vec3 axis, float radius, float height, Ray ray
             float h = i == 0 ? 0.0 : height;
             float t = (h - oa) / da;
             vec3 radial = op + t * dp;
-            if (t > tMin && t < tHit && dot(radial, radial) <= r2) {
+            if (t > tMin && t < tHit && dot(radial, radial) <= capR2) {
                 tHit = t;
                 normal = i == 0 ? -axis : axis;
                 found = true;
