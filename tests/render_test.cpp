@@ -305,5 +305,27 @@ TEST(RenderAnalytic, ShadowThroughGlassTakesItsColour) {
     EXPECT_GT(open, 200);
 }
 
+// A scene whose primitives do not fit the device's storage buffer limit is
+// refused with the reason, before any buffer is allocated, rather than left
+// to fail inside the driver. On lavapipe (128 MiB) that takes 2^21 + 1
+// spheres; devices with a far larger limit would need gigabytes of scene.
+TEST(RenderLimits, SceneBeyondTheBufferLimitIsAClearError) {
+    vk::DeviceSize limit = testContext().physicalDevice.getProperties().limits.maxStorageBufferRange;
+    if (limit > (vk::DeviceSize(256) << 20))
+        GTEST_SKIP() << "this device's storage buffer limit (" << (limit >> 20) << " MiB) needs a scene too large to build";
+    Scene scene = loadSceneFromString(sceneXml("", ""), "inline.xml");
+    size_t count = size_t(limit / sizeof(gpu::Primitive)) + 1;
+    scene.objects.reserve(count);
+    for (size_t i = 0; i < count; ++i)
+        scene.objects.push_back({.shape = Sphere{{double(i % 2048), double(i / 2048), -10.0}, 0.4}});
+    try {
+        Renderer renderer(testContext(), scene, small());
+        ADD_FAILURE() << "a scene of " << count << " primitives was accepted";
+    } catch (const std::runtime_error& e) {
+        EXPECT_EQ(std::string(e.what()), "the scene's " + std::to_string(count) +
+                                             " primitives exceed this device's storage buffer limit");
+    }
+}
+
 }  // namespace
 }  // namespace whitted::test
