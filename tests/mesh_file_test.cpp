@@ -333,6 +333,13 @@ TEST(MeshFileError, VertexOutOfRange) {
               at7("mesh file \"huge_vertex.obj\" has a vertex beyond ±1e6 or not finite: (0, 2e+07, 0)"));
 }
 
+TEST(MeshFileError, ScaledBeyondRange) {
+    // (0, 1, 1) turned 45 degrees about x is (0, 0, 1.41) before the scale of 1e6.
+    EXPECT_EQ(errorOf(R"(<file>tilted_normals.obj</file><scale>1e6</scale><rotation x="45" y="0" z="0"/>)"),
+              at7("mesh file \"tilted_normals.obj\": <scale> and <rotation> take vertex (0, 1, 1) beyond ±1e6 of the "
+                  "object's <position>"));
+}
+
 TEST(MeshFileError, DegenerateTrianglesLoadWithOneWarning) {
     Scene scene = loadWith(meshObject("<file>one_degenerate.obj</file>"));
     EXPECT_EQ(onlyMesh(scene).triangles.size(), 1u);

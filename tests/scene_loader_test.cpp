@@ -771,6 +771,15 @@ std::vector<BadCase> objectCases() {
         {"NegativeScaleComponent",
          sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<scale x=\"1\" y=\"-1\" z=\"1\"/>")),
          "t.xml:13: attribute y of <scale> must be > 0, got -1"},
+        {"ScaledBeyondRange",
+         sceneWith(objectOf("mesh", "<polygons><polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1e6\" y=\"0\" "
+                                    "z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/></polygon></polygons>\n<scale>2</scale>")),
+         "t.xml:12: <scale> and <rotation> take vertex (1e+06, 0, 0) beyond ±1e6 of the object's <position>"},
+        {"RotatedBeyondRange",
+         sceneWith(objectOf("mesh", "<polygons><polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1e6\" y=\"1e6\" "
+                                    "z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/></polygon></polygons>\n"
+                                    "<rotation x=\"0\" y=\"0\" z=\"45\"/>")),
+         "t.xml:12: <scale> and <rotation> take vertex (1e+06, 1e+06, 0) beyond ±1e6 of the object's <position>"},
         {"RotationMissingZ",
          sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<rotation><x>1</x><y>2</y></rotation>")),
          "t.xml:13: <rotation> is missing <z>"},

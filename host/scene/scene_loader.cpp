@@ -652,6 +652,13 @@ private:
         glm::dmat3 normalLinear{1.0};
         bool identity = true;  // no <scale> and no <rotation>: vertices are only offset
 
+        // Within ±1e6 of the position on every axis, as inline vertices
+        // are; false when <scale> or <rotation> take a vertex further.
+        bool inRange(const glm::dvec3& v) const {
+            glm::dvec3 placed = linear * v;
+            return identity || (std::abs(placed.x) <= kMaxMagnitude && std::abs(placed.y) <= kMaxMagnitude &&
+                                std::abs(placed.z) <= kMaxMagnitude);
+        }
         glm::dvec3 point(const glm::dvec3& v) const { return identity ? offset + v : offset + linear * v; }
         glm::dvec3 normal(const glm::dvec3& n) const { return identity ? n : glm::normalize(normalLinear * n); }
     };
@@ -687,6 +694,13 @@ private:
         return placement;
     }
 
+    static std::string outOfRange(const glm::dvec3& v) {
+        std::array<char, 96> text{};
+        std::snprintf(text.data(), text.size(), "(%g, %g, %g)", v.x, v.y, v.z);
+        return std::string("<scale> and <rotation> take vertex ") + text.data() +
+               " beyond ±1e6 of the object's <position>";
+    }
+
     // A mesh has either inline <polygons> or a model <file>.
     Mesh readMeshObject(ElementReader& object, ElementReader& properties, const glm::dvec3& position) {
         const XMLElement* polygons = properties.optional("polygons");
@@ -708,6 +722,8 @@ private:
         for (const XMLElement* polygon : polygons.all("polygon")) {
             ElementReader vertices(diag_, polygon, {{"vertex", true}});
             Triangle local = readTriangle(polygon, vertices.all("vertex"), glm::dvec3(0));
+            for (const glm::dvec3& v : {local.v0, local.v1, local.v2})
+                if (!placement.inRange(v)) diag_.fail(polygon, outOfRange(v));
             Triangle t{placement.point(local.v0), placement.point(local.v1), placement.point(local.v2)};
             if (degenerate(t)) {
                 diag_.warn(polygon, "degenerate polygon skipped");
@@ -738,6 +754,8 @@ private:
         size_t skipped = 0;
         for (size_t i = 0; i < data.triangles.size(); ++i) {
             const auto& v = data.triangles[i];
+            for (const glm::dvec3& p : v)
+                if (!placement.inRange(p)) diag_.fail(e, name + ": " + outOfRange(p));
             Triangle t{placement.point(v[0]), placement.point(v[1]), placement.point(v[2])};
             if (degenerate(t)) {
                 ++skipped;
