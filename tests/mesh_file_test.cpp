@@ -1,38 +1,42 @@
 // Meshes from model files (<file>, host/io/mesh_file.h) and the placement of
 // any mesh (<scale>, <rotation>): what loads, what renders, what is refused.
-#include "scene/scene_loader.h"
-#include "shapes/shapes.h"
-#include "test_support.h"
-
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <numbers>
+
+#include "scene/scene_loader.h"
+#include "shapes/shapes.h"
+#include "test_support.h"
 
 namespace whitted::test {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path meshDir() { return sourceDir() / "tests" / "meshes"; }
+fs::path meshDir() {
+    return sourceDir() / "tests" / "meshes";
+}
 
 // A scene file in tests/meshes (so <file> paths are relative to that
 // folder) with a camera at (0, 1.5, 4) looking at (0, 0.5, 0), a light beside
 // it, and `objects`. Lines: 1 <scene>, 2 <camera>, 3 <lights>, 4 <objects>,
 // objects from line 5.
 Scene loadWith(const std::string& objects) {
-    std::string xml = "<scene>\n"
-                      "<camera><position x=\"0\" y=\"1.5\" z=\"4\"/><window_position x=\"0\" y=\"1.25\" z=\"3\"/>"
-                      "<width>48</width><height>36</height><fov>40</fov></camera>\n"
-                      "<lights><light><position x=\"3\" y=\"4\" z=\"5\"/><color r=\"1\" g=\"1\" b=\"1\"/></light></lights>\n"
-                      "<objects>\n" +
-                      objects + "</objects>\n</scene>\n";
+    std::string xml =
+        "<scene>\n"
+        "<camera><position x=\"0\" y=\"1.5\" z=\"4\"/><window_position x=\"0\" y=\"1.25\" z=\"3\"/>"
+        "<width>48</width><height>36</height><fov>40</fov></camera>\n"
+        "<lights><light><position x=\"3\" y=\"4\" z=\"5\"/><color r=\"1\" g=\"1\" b=\"1\"/></light></lights>\n"
+        "<objects>\n" +
+        objects + "</objects>\n</scene>\n";
     return loadSceneFromString(xml, meshDir() / "t.xml");
 }
 
 // A mesh object: line 5 <object>, 6 <properties> and <type>, 7 `body`.
 std::string meshObject(const std::string& body, const std::string& position = "x=\"0\" y=\"0\" z=\"0\"") {
-    return "<object><position " + position + "/><diffuse_color r=\"0.9\" g=\"0.6\" b=\"0.3\"/>\n"
+    return "<object><position " + position +
+           "/><diffuse_color r=\"0.9\" g=\"0.6\" b=\"0.3\"/>\n"
            "<properties><type>mesh</type><diffuse_coef>0.8</diffuse_coef><ambiente_coef>0.1</ambiente_coef>"
            "<specular_coef>0.4</specular_coef>\n" +
            body + "\n</properties></object>\n";
@@ -68,12 +72,15 @@ void expectBitIdentical(const RenderResult& a, const RenderResult& b) {
     ASSERT_EQ(a.height, b.height);
     for (uint32_t layer = 0; layer < gpu::kAovCount; ++layer) {
         ASSERT_EQ(a.layers[layer].size(), b.layers[layer].size());
-        EXPECT_EQ(std::memcmp(a.layers[layer].data(), b.layers[layer].data(), a.layers[layer].size() * sizeof(float)), 0)
+        EXPECT_EQ(std::memcmp(a.layers[layer].data(), b.layers[layer].data(), a.layers[layer].size() * sizeof(float)),
+                  0)
             << "layer " << layer << " differs";
     }
 }
 
-RenderSettings small() { return {.width = 48, .height = 36, .samplesPerPixel = 2, .maxDepth = 2, .auxiliary = true}; }
+RenderSettings small() {
+    return {.width = 48, .height = 36, .samplesPerPixel = 2, .maxDepth = 2, .auxiliary = true};
+}
 
 // ---- What loads ---------------------------------------------------------------
 
@@ -294,7 +301,9 @@ std::string errorOf(const std::string& body) {
     return "(loaded)";
 }
 
-std::string at7(const std::string& message) { return (meshDir() / "t.xml").string() + ":7: " + message; }
+std::string at7(const std::string& message) {
+    return (meshDir() / "t.xml").string() + ":7: " + message;
+}
 
 TEST(MeshFileError, MissingFile) {
     EXPECT_EQ(errorOf("<file>no_such_model.obj</file>"), at7("mesh file \"no_such_model.obj\" does not exist"));
@@ -311,7 +320,8 @@ TEST(MeshFileError, UnknownExtension) {
 }
 
 TEST(MeshFileError, GarbageFileGivesAssimpsMessage) {
-    EXPECT_EQ(errorOf("<file>garbage.ply</file>"), at7("mesh file \"garbage.ply\" could not be read: Invalid .ply file: Incorrect magic number (expected 'ply' or 'PLY')."));
+    EXPECT_EQ(errorOf("<file>garbage.ply</file>"), at7("mesh file \"garbage.ply\" could not be read: Invalid .ply "
+                                                       "file: Incorrect magic number (expected 'ply' or 'PLY')."));
 }
 
 TEST(MeshFileError, TruncatedFileGivesAssimpsMessage) {
@@ -353,7 +363,8 @@ TEST(MeshRender, TooLargeForTheDeviceIsRefused) {
     VulkanContext& ctx = testContext();
     uint64_t maxRange = ctx.physicalDevice.getProperties().limits.maxStorageBufferRange;
     uint64_t fit = maxRange / sizeof(gpu::Primitive);
-    if (fit > 8'000'000) GTEST_SKIP() << "this device addresses " << fit << " primitives; the test would need too much memory";
+    if (fit > 8'000'000)
+        GTEST_SKIP() << "this device addresses " << fit << " primitives; the test would need too much memory";
     Scene scene = loadWith(meshObject("<file>pyramid.obj</file>"));
     Mesh& mesh = std::get<Mesh>(scene.objects[0].shape);
     mesh.triangles.resize(fit + 1, mesh.triangles[0]);

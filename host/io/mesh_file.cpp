@@ -1,9 +1,9 @@
 #include "io/mesh_file.h"
 
-#include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <assimp/Importer.hpp>
 #include <cmath>
 #include <cstdio>
 #include <system_error>
@@ -34,16 +34,14 @@ bool unitNormal(const aiVector3D& n, glm::dvec3& out) {
 MeshFileData readMeshFile(const std::filesystem::path& path) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw MeshFileError("does not exist");
-    if (std::filesystem::is_directory(path, ec))
-        throw MeshFileError("is a directory, expected a model file");
+    if (std::filesystem::is_directory(path, ec)) throw MeshFileError("is a directory, expected a model file");
 
     // Assimp guesses a format from the contents when the extension is
     // unknown; refuse instead, so a mistyped name is never read as something.
     Assimp::Importer importer;
     std::string extension = path.extension().string();
     if (extension.empty() || !importer.IsExtensionSupported(extension))
-        throw MeshFileError("has " +
-                            (extension.empty() ? "no extension" : "unknown extension \"" + extension + "\"") +
+        throw MeshFileError("has " + (extension.empty() ? "no extension" : "unknown extension \"" + extension + "\"") +
                             "; expected a model format Assimp reads, such as .obj, .ply, .stl, .off, .gltf or .glb");
 
     // Triangulate polygons, bake the node hierarchy into the vertices and
@@ -54,8 +52,7 @@ MeshFileData readMeshFile(const std::filesystem::path& path) {
     const aiScene* scene = importer.ReadFile(path.string(), flags);
     if (!scene) {
         std::string reason = importer.GetErrorString();
-        throw MeshFileError("could not be read: " +
-                            (reason.empty() ? std::string("Assimp gave no reason") : reason));
+        throw MeshFileError("could not be read: " + (reason.empty() ? std::string("Assimp gave no reason") : reason));
     }
 
     MeshFileData data;

@@ -4,10 +4,9 @@
 // (libassimp-dev), and it keeps the per-vertex normals a file carries.
 #pragma once
 
-#include <glm/glm.hpp>
-
 #include <array>
 #include <filesystem>
+#include <glm/glm.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>

@@ -655,9 +655,10 @@ private:
         // Within ±1e6 of the position on every axis, as inline vertices
         // are; false when <scale> or <rotation> take a vertex further.
         bool inRange(const glm::dvec3& v) const {
+            if (identity) return true;
             glm::dvec3 placed = linear * v;
-            return identity || (std::abs(placed.x) <= kMaxMagnitude && std::abs(placed.y) <= kMaxMagnitude &&
-                                std::abs(placed.z) <= kMaxMagnitude);
+            return std::abs(placed.x) <= kMaxMagnitude && std::abs(placed.y) <= kMaxMagnitude &&
+                   std::abs(placed.z) <= kMaxMagnitude;
         }
         glm::dvec3 point(const glm::dvec3& v) const { return identity ? offset + v : offset + linear * v; }
         glm::dvec3 normal(const glm::dvec3& n) const { return identity ? n : glm::normalize(normalLinear * n); }
