@@ -36,6 +36,12 @@ WHITTED_CONST uint kShapePlane = 2;
 WHITTED_CONST uint kShapeTriangle = 3;
 WHITTED_CONST uint kShapeBox = 4;
 
+// Primitive.info.z of a triangle: kTriangleSmooth when a, b, c .w hold its
+// vertex normals, octahedral-encoded (host/shapes/triangle.cpp), each
+// coordinate in kOctahedralBits bits.
+WHITTED_CONST uint kTriangleSmooth = 1;
+WHITTED_CONST uint kOctahedralBits = 15;
+
 // Output layers, each width*height vec4 holding the SUM over samples.
 // Colour components ambient+diffuse+specular+reflection+transmission add up
 // to kAovColor exactly (each ray's contribution is tagged with the component
@@ -67,9 +73,9 @@ WHITTED_CONST uint kOptionWriteAovs = 1u;
 //   sphere:   a = (centre, radius)
 //   cylinder: a = (bottom cap centre, radius), b = (unit axis, height)
 //   plane:    a = (point, 0), b = (unit normal, 0)
-//   triangle: a, b, c = vertices (xyz)
+//   triangle: a, b, c = vertices (xyz); w = vertex normals when smooth
 //   box:      a = min corner, b = max corner
-// info = (shape tag, material index, 0, 0). Primitives in the BVH come first,
+// info = (shape tag, material index, kTriangleSmooth or 0, 0). Primitives in the BVH come first,
 // in leaf order; the unbounded ones (planes) follow and are tested one by one.
 struct Primitive {
     vec4 a;

@@ -11,9 +11,11 @@ struct LocalShading {
 };
 
 // Ambient ka Cd A plus, per point light, its visibility (shadow ray) times
-// kd Cd max(N.L, 0) + ks Cs max(R.V, 0)^shininess. n faces the viewer and p
-// is already offset to the viewer's side of the surface.
-LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 viewDir) {
+// kd Cd max(N.L, 0) + ks Cs max(R.V, 0)^shininess. n is the shading normal,
+// ng the geometric one; both face the viewer and p is already offset to the
+// viewer's side of the surface. A light behind the geometric surface gives
+// nothing even where the shading normal leans towards it.
+LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
     LocalShading s;
     s.ambient = m.coefs0.x * m.diffuse.rgb * params.ambientLight.rgb;
     s.diffuse = vec3(0.0);
@@ -26,7 +28,7 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 viewDir) {
         float dist = length(toLight);
         vec3 l = toLight / dist;
         float nDotL = dot(n, l);
-        if (nDotL <= 0.0 || (kd <= 0.0 && ks <= 0.0)) continue;
+        if (nDotL <= 0.0 || dot(ng, l) <= 0.0 || (kd <= 0.0 && ks <= 0.0)) continue;
         s.shadowRays += 1u;
         vec3 visibility = shadowTransmittance(Ray(p, l), dist);
         if (all(equal(visibility, vec3(0.0)))) continue;

@@ -45,19 +45,22 @@ void traceSample(Ray cameraRay, inout SampleResult result, inout uvec3 rayCount)
         float kr = m.coefs1.x, kt = m.coefs1.y, ior = m.coefs1.z;
 
         // Which side was hit is decided by the geometric normal; shading
-        // uses the normal facing the incoming ray (two-sided surfaces).
+        // uses the normal facing the incoming ray (two-sided surfaces). The
+        // geometric normal n also places the ray origins; the shading normal
+        // ns differs from it on smooth mesh triangles only.
         bool frontFace = dot(ray.dir, hit.normal) < 0.0;
         vec3 n = frontFace ? hit.normal : -hit.normal;
         vec3 p = ray.origin + hit.t * ray.dir;
         vec3 pOutside = offsetRay(p, n);
+        vec3 ns = shadingNormal(prim, p, n, -ray.dir);
 
-        LocalShading local = shadeLocal(m, pOutside, n, -ray.dir);
+        LocalShading local = shadeLocal(m, pOutside, ns, n, -ray.dir);
         rayCount.y += local.shadowRays;
         if (pending.depth == 0u) {
             result.components[0] += local.ambient;
             result.components[1] += local.diffuse;
             result.components[2] += local.specular;
-            result.normal += vec4(n, 1.0);
+            result.normal += vec4(ns, 1.0);
             result.coefs0 += vec4(m.coefs0.xyz, hit.t);
             result.coefs1 += vec4(kr, kt, ior, 1.0);
         } else {
@@ -68,12 +71,15 @@ void traceSample(Ray cameraRay, inout SampleResult result, inout uvec3 rayCount)
 
         // Secondary rays: refraction by Snell's law with the object's IOR
         // against air; total internal reflection sends the transmitted share
-        // into the reflected ray.
+        // into the reflected ray. Directions bent by the shading normal that
+        // would stay on the wrong side of the geometric surface fall back to
+        // the geometric normal's.
         uint childDepth = pending.depth + 1u;
         vec3 reflectWeight = kr * m.specular.rgb;
         if (kt > 0.0) {
             float eta = frontFace ? 1.0 / ior : ior;
-            vec3 refracted = refract(ray.dir, n, eta);
+            vec3 refracted = refract(ray.dir, ns, eta);
+            if (dot(refracted, n) >= 0.0) refracted = refract(ray.dir, n, eta);
             if (all(equal(refracted, vec3(0.0)))) {
                 reflectWeight += vec3(kt);
             } else {
@@ -84,7 +90,9 @@ void traceSample(Ray cameraRay, inout SampleResult result, inout uvec3 rayCount)
         }
         if (any(greaterThan(reflectWeight, vec3(0.0)))) {
             uint component = pending.depth == 0u ? kAovReflection : pending.component;
-            stack[top++] = PendingRay(Ray(pOutside, reflect(ray.dir, n)),
+            vec3 reflected = reflect(ray.dir, ns);
+            if (dot(reflected, n) <= 0.0) reflected = reflect(ray.dir, n);
+            stack[top++] = PendingRay(Ray(pOutside, reflected),
                                       pending.weight * reflectWeight, childDepth, component);
         }
     }

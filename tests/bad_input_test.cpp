@@ -269,14 +269,16 @@ INSTANTIATE_TEST_SUITE_P(
         LegalCase{"empty_scene.xml",
                    {"FILE:7: scene has no lights; only ambient light will show",
                     "FILE:8: scene has no objects; the image will be black"}},
-        LegalCase{"degenerate_polygon_in_mesh.xml", {"FILE:24: degenerate polygon skipped"}}),
+        LegalCase{"degenerate_polygon_in_mesh.xml", {"FILE:24: degenerate polygon skipped"}},
+        LegalCase{"degenerate_triangles_in_mesh_file.xml",
+                  {"FILE:19: mesh file \"../meshes/one_degenerate.obj\": 2 degenerate triangles skipped"}}),
     [](const auto& info) { return testName(info.param.file); });
 
 TEST(LegalSceneCatalogue, EveryFileIsTested) {
     std::set<std::string> files;
     for (const auto& entry : fs::directory_iterator(legalScenesDir())) files.insert(entry.path().filename().string());
     EXPECT_EQ(files, (std::set<std::string>{"no_lights.xml", "no_objects.xml", "empty_scene.xml",
-                                            "degenerate_polygon_in_mesh.xml"}));
+                                            "degenerate_polygon_in_mesh.xml", "degenerate_triangles_in_mesh_file.xml"}));
 }
 
 }  // namespace

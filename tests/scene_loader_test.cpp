@@ -471,7 +471,7 @@ std::string nested(int depth) {
 
 const std::string kPropertyList =
     "type, refraction_coef, transmission_coef, specular_coef, diffuse_coef, ambiente_coef, reflective, shininess, "
-    "reflection_coef, radius, height, axis, normal, size, vertex, polygons";
+    "reflection_coef, radius, height, axis, normal, size, vertex, polygons, file, scale, rotation";
 
 std::vector<BadCase> xmlCases() {
     const std::string camera =
@@ -730,7 +730,7 @@ std::vector<BadCase> objectCases() {
                             "<vertex x=\"0\" y=\"1\" z=\"0\"/>")),
          "t.xml:13: <vertex> is missing attribute \"z\""},
         {"MeshWithoutPolygons", sceneWith(objectOf("mesh", "")),
-         "t.xml:8: <object> is missing <polygons> (required for type mesh)"},
+         "t.xml:8: <object> is missing <polygons> or <file> (required for type mesh)"},
         {"EmptyPolygons", sceneWith(objectOf("mesh", "<polygons/>")),
          "t.xml:12: <polygons> has no <polygon>; a mesh needs at least one"},
         {"UnknownInPolygons", sceneWith(objectOf("mesh", "<polygons>\n<poly/></polygons>")),
@@ -752,8 +752,37 @@ std::vector<BadCase> objectCases() {
                             "<polygons>\n<polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1\" y=\"0\" z=\"0\"/>"
                             "<vertex x=\"2\" y=\"0\" z=\"0\"/></polygon></polygons>")),
          "t.xml:12: every <polygon> in <polygons> is degenerate"},
-        {"MeshFileNotYet", sceneWith(objectOf("mesh", "<file>bunny.obj</file>")),
-         "t.xml:12: unknown element <file> in <properties>; expected one of: " + kPropertyList},
+        // Model files (the file's own errors: tests/mesh_file_test.cpp).
+        {"MeshFileMissing", sceneWith(objectOf("mesh", "<file>no_such_bunny.obj</file>")),
+         "t.xml:12: mesh file \"no_such_bunny.obj\" does not exist"},
+        {"MeshFileEmpty", sceneWith(objectOf("mesh", "<file> </file>")),
+         "t.xml:12: <file> is empty; expected the path of a model file"},
+        {"MeshFileAndPolygons",
+         sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<file>a.obj</file>")),
+         "t.xml:13: <properties> has both <polygons> and <file>; a mesh takes one"},
+        {"FileOnSphere", sceneWith(objectOf("sphere", "<radius>1</radius>\n<file>a.obj</file>")),
+         "t.xml:13: <file> does not apply to type sphere"},
+        {"ScaleOnBox", sceneWith(objectOf("box", "<size x=\"1\" y=\"1\" z=\"1\"/>\n<scale>2</scale>")),
+         "t.xml:13: <scale> does not apply to type box"},
+        {"RotationOnTriangle", sceneWith(objectOf("triangle", triangle3 + "\n<rotation x=\"0\" y=\"90\" z=\"0\"/>")),
+         "t.xml:13: <rotation> does not apply to type triangle"},
+        {"ZeroScale", sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<scale>0</scale>")),
+         "t.xml:13: <scale> must be > 0, got 0"},
+        {"NegativeScaleComponent",
+         sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<scale x=\"1\" y=\"-1\" z=\"1\"/>")),
+         "t.xml:13: attribute y of <scale> must be > 0, got -1"},
+        {"ScaledBeyondRange",
+         sceneWith(objectOf("mesh", "<polygons><polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1e6\" y=\"0\" "
+                                    "z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/></polygon></polygons>\n<scale>2</scale>")),
+         "t.xml:12: <scale> and <rotation> take vertex (1e+06, 0, 0) beyond ±1e6 of the object's <position>"},
+        {"RotatedBeyondRange",
+         sceneWith(objectOf("mesh", "<polygons><polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1e6\" y=\"1e6\" "
+                                    "z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/></polygon></polygons>\n"
+                                    "<rotation x=\"0\" y=\"0\" z=\"45\"/>")),
+         "t.xml:12: <scale> and <rotation> take vertex (1e+06, 1e+06, 0) beyond ±1e6 of the object's <position>"},
+        {"RotationMissingZ",
+         sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<rotation><x>1</x><y>2</y></rotation>")),
+         "t.xml:13: <rotation> is missing <z>"},
     };
 }
 

@@ -11,7 +11,7 @@ packages=(
   libgtest-dev libcli11-dev
   povray xvfb xauth
   clang-14 libfuzzer-14-dev libclang-rt-14-dev
-  libtinyobjloader-dev
+  libassimp-dev
 )
 
 missing=()

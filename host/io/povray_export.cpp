@@ -93,9 +93,20 @@ struct ShapeWriter {
     void operator()(const Mesh& m) const {
         // POV-Ray refuses an empty mesh.
         if (std::all_of(m.triangles.begin(), m.triangles.end(), degenerate)) return;
+        // Smooth meshes as smooth_triangle: POV-Ray interpolates the vertex
+        // normals across the triangle as we do (Phong).
         s << "mesh {\n";
-        for (const Triangle& t : m.triangles)
-            if (!degenerate(t)) s << "  " << triangleBody(t) << "\n";
+        for (size_t i = 0; i < m.triangles.size(); ++i) {
+            const Triangle& t = m.triangles[i];
+            if (degenerate(t)) continue;
+            if (m.normals.empty()) {
+                s << "  " << triangleBody(t) << "\n";
+            } else {
+                const auto& n = m.normals[i];
+                s << "  smooth_triangle { " << vec(t.v0) << ", " << vec(n[0]) << ", " << vec(t.v1) << ", "
+                  << vec(n[1]) << ", " << vec(t.v2) << ", " << vec(n[2]) << " }\n";
+            }
+        }
         s << material << "}\n";
     }
 };

@@ -1,5 +1,7 @@
 #include "render/renderer.h"
 
+#include "shapes/shapes.h"
+
 #include <cstdint>
 
 #include "whitted_comp.h"  // kWhittedCompSpv, generated from shaders/whitted.comp
@@ -21,10 +23,27 @@ constexpr uint32_t kTileSize = 128;
 
 constexpr vk::BufferUsageFlags kStorage = vk::BufferUsageFlagBits::eStorageBuffer;
 
+// The primitive buffer (64 bytes a primitive; a smooth triangle's vertex
+// normals ride inside its primitive) must fit the device's storage buffer
+// range. Checked before packing, so a scene too large is refused before the
+// BVH over it is built.
+const Scene& checkPrimitivesFit(const VulkanContext& ctx, const Scene& scene) {
+    size_t count = 0;
+    for (const Object& object : scene.objects) count += primitiveCount(object.shape);
+    vk::DeviceSize size = vk::DeviceSize(count) * sizeof(gpu::Primitive);
+    vk::DeviceSize maxRange = ctx.physicalDevice.getProperties().limits.maxStorageBufferRange;
+    if (size > maxRange)
+        throw std::runtime_error("the scene's " + std::to_string(count) + " primitives (triangles count one each) need " +
+                                 std::to_string(size >> 20) + " MiB, more than this device's storage buffer limit of " +
+                                 std::to_string(maxRange >> 20) + " MiB (" + std::to_string(maxRange / sizeof(gpu::Primitive)) +
+                                 " primitives)");
+    return scene;
+}
+
 }  // namespace
 
 Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings& settings)
-    : ctx_(ctx), settings_(settings), scene_(packScene(scene, settings)) {
+    : ctx_(ctx), settings_(settings), scene_(packScene(checkPrimitivesFit(ctx, scene), settings)) {
     auto start = Clock::now();
     if (scene_.width < 1 || scene_.height < 1 || scene_.width > 16384 || scene_.height > 16384)
         throw std::runtime_error("image size " + std::to_string(scene_.width) + "x" + std::to_string(scene_.height) +
@@ -45,9 +64,6 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
         throw std::runtime_error("the image and its auxiliary layers need " + std::to_string(outputSize >> 20) +
                                  " MiB, more than this device's storage buffer limit of " +
                                  std::to_string(maxRange >> 20) + " MiB; render smaller or with --aov none");
-    if (primitiveSize > maxRange)
-        throw std::runtime_error("the scene's " + std::to_string(scene_.primitives.size()) +
-                                 " primitives exceed this device's storage buffer limit");
 
     const vk::DescriptorType bindingTypes[] = {
         vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,

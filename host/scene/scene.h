@@ -4,6 +4,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <filesystem>
 #include <string>
 #include <variant>
@@ -73,9 +74,13 @@ struct Box {
     glm::dvec3 max;
 };
 
-// A triangle mesh, world-space vertices (the loader adds the object position).
+// A triangle mesh, world-space vertices (the loader applies the object's
+// scale, rotation and position). normals is empty for a flat-shaded mesh, or
+// holds the unit vertex normals of each triangle (v0, v1, v2 order), world
+// space, for smooth shading; their side may differ from the winding's.
 struct Mesh {
     std::vector<Triangle> triangles;
+    std::vector<std::array<glm::dvec3, 3>> normals;
 };
 
 using Shape = std::variant<Sphere, Cylinder, Plane, Triangle, Box, Mesh>;

@@ -1,5 +1,7 @@
 #include "scene/scene_loader.h"
 
+#include "io/mesh_file.h"
+
 #include <tinyxml2.h>
 
 #include <algorithm>
@@ -305,7 +307,10 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"normal"},
                                                {"size"},
                                                {"vertex", true},
-                                               {"polygons"}};
+                                               {"polygons"},
+                                               {"file"},
+                                               {"scale"},
+                                               {"rotation"}};
 
 // One number of a vector or colour.
 struct Component {
@@ -624,7 +629,7 @@ private:
                 diag_.fail(object.element(), "<object> of type triangle is degenerate: its vertices are collinear");
             return t;
         }
-        return readMesh(need("polygons"), position);
+        return readMeshObject(object, properties, position);
     }
 
     Triangle readTriangle(const XMLElement* parent, const std::vector<const XMLElement*>& vertices,
@@ -635,15 +640,92 @@ private:
         return {offset + vector(vertices[0]), offset + vector(vertices[1]), offset + vector(vertices[2])};
     }
 
+    // ---- Meshes ----
+
+    // Where a mesh's vertices go: world = position + R (S v), S the <scale>
+    // (per axis), R = Rz Ry Rx the <rotation> in degrees: about x first, then
+    // y, then z, each about the fixed world axes. Normals go through the
+    // inverse transpose, R S^-1 (Phong normal transform).
+    struct Placement {
+        glm::dvec3 offset{0};
+        glm::dmat3 linear{1.0};
+        glm::dmat3 normalLinear{1.0};
+        bool identity = true;  // no <scale> and no <rotation>: vertices are only offset
+
+        // Within ±1e6 of the position on every axis, as inline vertices
+        // are; false when <scale> or <rotation> take a vertex further.
+        bool inRange(const glm::dvec3& v) const {
+            if (identity) return true;
+            glm::dvec3 placed = linear * v;
+            return std::abs(placed.x) <= kMaxMagnitude && std::abs(placed.y) <= kMaxMagnitude &&
+                   std::abs(placed.z) <= kMaxMagnitude;
+        }
+        glm::dvec3 point(const glm::dvec3& v) const { return identity ? offset + v : offset + linear * v; }
+        glm::dvec3 normal(const glm::dvec3& n) const { return identity ? n : glm::normalize(normalLinear * n); }
+    };
+
+    static glm::dmat3 rotationXyz(const glm::dvec3& degrees) {
+        glm::dvec3 r = glm::radians(degrees);
+        double cx = std::cos(r.x), sx = std::sin(r.x), cy = std::cos(r.y), sy = std::sin(r.y);
+        double cz = std::cos(r.z), sz = std::sin(r.z);
+        // glm matrices are column-major: each line below is one column.
+        glm::dmat3 rx(1, 0, 0, 0, cx, sx, 0, -sx, cx);
+        glm::dmat3 ry(cy, 0, -sy, 0, 1, 0, sy, 0, cy);
+        glm::dmat3 rz(cz, sz, 0, -sz, cz, 0, 0, 0, 1);
+        return rz * ry * rx;
+    }
+
+    // <scale> is one number for all axes, or a vector (x, y, z); each > 0.
+    Placement readPlacement(ElementReader& properties, const glm::dvec3& position) const {
+        Placement placement;
+        placement.offset = position;
+        glm::dvec3 scale(1.0), rotation(0.0);
+        if (const XMLElement* e = properties.optional("scale")) {
+            scale = e->FirstAttribute() || e->FirstChildElement() ? vector(e, kPositive)
+                                                                  : glm::dvec3(number(e, kPositive));
+            placement.identity = false;
+        }
+        if (const XMLElement* e = properties.optional("rotation")) {
+            rotation = vector(e);
+            placement.identity = false;
+        }
+        glm::dmat3 r = rotationXyz(rotation);
+        placement.linear = r * glm::dmat3(scale.x, 0, 0, 0, scale.y, 0, 0, 0, scale.z);
+        placement.normalLinear = r * glm::dmat3(1 / scale.x, 0, 0, 0, 1 / scale.y, 0, 0, 0, 1 / scale.z);
+        return placement;
+    }
+
+    static std::string outOfRange(const glm::dvec3& v) {
+        std::array<char, 96> text{};
+        std::snprintf(text.data(), text.size(), "(%g, %g, %g)", v.x, v.y, v.z);
+        return std::string("<scale> and <rotation> take vertex ") + text.data() +
+               " beyond ±1e6 of the object's <position>";
+    }
+
+    // A mesh has either inline <polygons> or a model <file>.
+    Mesh readMeshObject(ElementReader& object, ElementReader& properties, const glm::dvec3& position) {
+        const XMLElement* polygons = properties.optional("polygons");
+        const XMLElement* file = properties.optional("file");
+        if (polygons && file)
+            diag_.fail(laterOf(polygons, file), "<properties> has both <polygons> and <file>; a mesh takes one");
+        if (!polygons && !file)
+            diag_.fail(object.element(), "<object> is missing <polygons> or <file> (required for type mesh)");
+        Placement placement = readPlacement(properties, position);
+        return polygons ? readMesh(polygons, placement) : readMeshFile(file, placement);
+    }
+
     // Degenerate polygons are dropped with a warning; a mesh needs at least
     // one that is not.
-    Mesh readMesh(const XMLElement* e, const glm::dvec3& offset) {
+    Mesh readMesh(const XMLElement* e, const Placement& placement) {
         ElementReader polygons(diag_, e, {{"polygon", true}});
         if (polygons.all("polygon").empty()) diag_.fail(e, "<polygons> has no <polygon>; a mesh needs at least one");
         Mesh mesh;
         for (const XMLElement* polygon : polygons.all("polygon")) {
             ElementReader vertices(diag_, polygon, {{"vertex", true}});
-            Triangle t = readTriangle(polygon, vertices.all("vertex"), offset);
+            Triangle local = readTriangle(polygon, vertices.all("vertex"), glm::dvec3(0));
+            for (const glm::dvec3& v : {local.v0, local.v1, local.v2})
+                if (!placement.inRange(v)) diag_.fail(polygon, outOfRange(v));
+            Triangle t{placement.point(local.v0), placement.point(local.v1), placement.point(local.v2)};
             if (degenerate(t)) {
                 diag_.warn(polygon, "degenerate polygon skipped");
                 continue;
@@ -651,6 +733,45 @@ private:
             mesh.triangles.push_back(t);
         }
         if (mesh.triangles.empty()) diag_.fail(e, "every <polygon> in <polygons> is degenerate");
+        return mesh;
+    }
+
+    // A model file (host/io/mesh_file.h), its path relative to the scene
+    // file's folder. Degenerate triangles are dropped with one warning.
+    Mesh readMeshFile(const XMLElement* e, const Placement& placement) {
+        std::string written = valueText(e);
+        if (written.empty()) diag_.fail(e, "<file> is empty; expected the path of a model file");
+        std::filesystem::path path(written);
+        if (path.is_relative()) path = scene_.sourcePath.parent_path() / path;
+        std::string name = "mesh file \"" + written + "\"";
+        MeshFileData data;
+        try {
+            data = whitted::readMeshFile(path);
+        } catch (const MeshFileError& error) {
+            diag_.fail(e, name + " " + error.what());
+        }
+
+        Mesh mesh;
+        size_t skipped = 0;
+        for (size_t i = 0; i < data.triangles.size(); ++i) {
+            const auto& v = data.triangles[i];
+            for (const glm::dvec3& p : v)
+                if (!placement.inRange(p)) diag_.fail(e, name + ": " + outOfRange(p));
+            Triangle t{placement.point(v[0]), placement.point(v[1]), placement.point(v[2])};
+            if (degenerate(t)) {
+                ++skipped;
+                continue;
+            }
+            mesh.triangles.push_back(t);
+            if (!data.normals.empty()) {
+                const auto& n = data.normals[i];
+                mesh.normals.push_back({placement.normal(n[0]), placement.normal(n[1]), placement.normal(n[2])});
+            }
+        }
+        if (mesh.triangles.empty()) diag_.fail(e, "every triangle in " + name + " is degenerate");
+        if (skipped > 0)
+            diag_.warn(e, name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
+                              " skipped");
         return mesh;
     }
 

@@ -4,6 +4,11 @@
 
 namespace whitted {
 
+size_t primitiveCount(const Shape& shape) {
+    if (const Mesh* mesh = std::get_if<Mesh>(&shape)) return mesh->triangles.size();
+    return 1;
+}
+
 void appendPrimitives(const Shape& shape, uint32_t material, std::vector<gpu::Primitive>& out,
                       std::vector<Aabb>& bounds) {
     auto add = [&](const gpu::Primitive& p, const Aabb& b) {
@@ -19,7 +24,11 @@ void appendPrimitives(const Shape& shape, uint32_t material, std::vector<gpu::Pr
             else if constexpr (std::is_same_v<T, Triangle>) add(packTriangle(s, material), boundsTriangle(s));
             else if constexpr (std::is_same_v<T, Box>) add(packBox(s, material), boundsBox(s));
             else if constexpr (std::is_same_v<T, Mesh>)
-                for (const Triangle& t : s.triangles) add(packTriangle(t, material), boundsTriangle(t));
+                for (size_t i = 0; i < s.triangles.size(); ++i) {
+                    const Triangle& t = s.triangles[i];
+                    add(s.normals.empty() ? packTriangle(t, material) : packSmoothTriangle(t, s.normals[i], material),
+                        boundsTriangle(t));
+                }
             else static_assert(sizeof(T) == 0, "unhandled shape");
         },
         shape);

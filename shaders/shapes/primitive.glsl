@@ -20,4 +20,22 @@ bool intersectPrimitive(Primitive prim, Ray ray, float tMin, inout float tHit, o
     return false;
 }
 
+// The normal that shading uses at point p of a primitive hit from the side n
+// faces (n: the geometric normal turned towards the incoming ray). It is n
+// itself except on smooth mesh triangles, where it is the interpolated vertex
+// normal, turned to n's side (a file's normals may disagree with the
+// winding) and, where it would face away from the viewer (silhouettes of a
+// coarse mesh), bent towards viewDir until their cosine is kMinCosine, so
+// shading never looks at a surface from behind.
+vec3 shadingNormal(Primitive prim, vec3 p, vec3 n, vec3 viewDir) {
+    if (prim.info.x != kShapeTriangle || prim.info.z != kTriangleSmooth) return n;
+    const float kMinCosine = 1e-3;
+    uvec3 packedNormals = uvec3(floatBitsToUint(prim.a.w), floatBitsToUint(prim.b.w), floatBitsToUint(prim.c.w));
+    vec3 s = shadingNormalTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, packedNormals, p);
+    if (dot(s, n) < 0.0) s = -s;
+    float facing = dot(s, viewDir);
+    if (facing < kMinCosine) s = normalize(s + (kMinCosine - facing) * viewDir);
+    return s;
+}
+
 #endif

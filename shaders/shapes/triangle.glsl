@@ -1,5 +1,6 @@
 #ifndef WHITTED_TRIANGLE_GLSL
 #define WHITTED_TRIANGLE_GLSL
+#include "../device_types.h"
 #include "../ray.glsl"
 
 // Watertight ray/triangle test: "Watertight Ray/Triangle Intersection", Woop,
@@ -48,6 +49,33 @@ bool intersectTriangle(vec3 v0, vec3 v1, vec3 v2, Ray ray, float tMin, inout flo
     tHit = t;
     normal = normalize(cross(v1 - v0, v2 - v0));
     return true;
+}
+
+// Inverse of encodeOctahedral() in host/shapes/triangle.cpp (Cigolle et
+// al., JCGT 2014): unfold the lower half of the octahedron, normalize.
+vec3 decodeOctahedral(uint bits) {
+    const uint mask = (1u << kOctahedralBits) - 1u;
+    vec2 e = vec2(uvec2(bits & mask, (bits >> kOctahedralBits) & mask)) / float(mask) * 2.0 - 1.0;
+    vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+    float fold = max(-n.z, 0.0);
+    n.xy += mix(vec2(fold), vec2(-fold), greaterThanEqual(n.xy, vec2(0.0)));
+    return normalize(n);
+}
+
+// Phong's interpolated normal of a smooth triangle at point p on it: the
+// vertex normals weighted by p's barycentric coordinates (computed from p as
+// in Ericson, "Real-Time Collision Detection", 3.4), not oriented.
+vec3 shadingNormalTriangle(vec3 v0, vec3 v1, vec3 v2, uvec3 packedNormals, vec3 p) {
+    vec3 e0 = v1 - v0, e1 = v2 - v0, ep = p - v0;
+    float d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1);
+    float d20 = dot(ep, e0), d21 = dot(ep, e1);
+    float denom = d00 * d11 - d01 * d01;
+    float b1 = clamp((d11 * d20 - d01 * d21) / denom, 0.0, 1.0);
+    float b2 = clamp((d00 * d21 - d01 * d20) / denom, 0.0, 1.0 - b1);
+    vec3 n = (1.0 - b1 - b2) * decodeOctahedral(packedNormals.x) + b1 * decodeOctahedral(packedNormals.y) +
+             b2 * decodeOctahedral(packedNormals.z);
+    float length2 = dot(n, n);
+    return length2 > 1e-12 ? n * inversesqrt(length2) : normalize(cross(e0, e1));
 }
 
 #endif

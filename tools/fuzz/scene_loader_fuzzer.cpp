@@ -85,6 +85,9 @@ void checkScene(const Scene& scene) {
                 } else if constexpr (std::is_same_v<T, Mesh>) {
                     check(!s.triangles.empty());
                     for (const Triangle& t : s.triangles) checkTriangle(t);
+                    check(s.normals.empty() || s.normals.size() == s.triangles.size());
+                    for (const auto& n : s.normals)
+                        for (const glm::dvec3& v : n) checkUnit(v);
                 }
             },
             o.shape);
