@@ -317,13 +317,16 @@ TEST(RenderLimits, SceneBeyondTheBufferLimitIsAClearError) {
     size_t count = size_t(limit / sizeof(gpu::Primitive)) + 1;
     scene.objects.reserve(count);
     for (size_t i = 0; i < count; ++i)
-        scene.objects.push_back({.shape = Sphere{{double(i % 2048), double(i / 2048), -10.0}, 0.4}});
+        scene.objects.push_back({.shape = Sphere{{double(i % 2048), double(i / 2048), -10.0}, 0.4}, .material = {}});
     try {
         Renderer renderer(testContext(), scene, small());
         ADD_FAILURE() << "a scene of " << count << " primitives was accepted";
     } catch (const std::runtime_error& e) {
-        EXPECT_EQ(std::string(e.what()), "the scene's " + std::to_string(count) +
-                                             " primitives exceed this device's storage buffer limit");
+        EXPECT_EQ(std::string(e.what()),
+                  "the scene's " + std::to_string(count) + " primitives (triangles count one each) need " +
+                      std::to_string((count * sizeof(gpu::Primitive)) >> 20) +
+                      " MiB, more than this device's storage buffer limit of " + std::to_string(limit >> 20) + " MiB (" +
+                      std::to_string(limit / sizeof(gpu::Primitive)) + " primitives)");
     }
 }
 
