@@ -1,0 +1,44 @@
+// Progressive accumulation for the live window: the sample budget of a
+// render is split across frames. A pass adds sample s to every pixel, tile
+// by tile; a frame records as many tile dispatches as its budget of camera
+// samples allows, and the budget follows the measured frame time so that a
+// frame stays near the target (well under 100 ms) on any device. Each
+// dispatch traces exactly one sample index, so after S passes the sums are
+// the ones `whitted render --spp S` produces, added in the same order.
+#pragma once
+
+#include "render/renderer.h"
+
+#include <cstdint>
+
+namespace whitted {
+
+class Progressive {
+public:
+    Progressive(int width, int height, uint32_t targetSamples, double targetFrameSeconds);
+
+    // Starts over (camera or scene changed): the next frame clears the sums.
+    void restart();
+    // Records this frame's clear and tile dispatches; returns the camera
+    // samples recorded (0 once every pixel has the target count).
+    uint64_t record(const Renderer& renderer, const vk::raii::CommandBuffer& cmd);
+    // Feeds back how long the last frame took (GPU, submit to fence).
+    void frameDone(double seconds, uint64_t recorded);
+
+    uint32_t completedSamples() const { return pass_; }  // every pixel has at least this many
+    uint32_t targetSamples() const { return target_; }
+    bool done() const { return pass_ >= target_; }
+    uint64_t budget() const { return budget_; }
+
+private:
+    int width_, height_;
+    uint32_t tilesX_, tilesY_;
+    uint32_t target_;
+    double targetSeconds_;
+    uint64_t budget_;        // camera samples per frame
+    uint32_t pass_ = 0;      // sample index of the pass in progress
+    uint32_t nextTile_ = 0;  // first tile of the pass not yet dispatched
+    bool clear_ = true;
+};
+
+}  // namespace whitted
