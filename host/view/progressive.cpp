@@ -5,20 +5,19 @@
 namespace whitted {
 namespace {
 
-constexpr uint32_t kTile = 32;
-constexpr uint64_t kMinBudget = kTile * kTile;
+constexpr uint32_t kRowStep = gpu::kWorkgroupSize;  // rows of one work group
+constexpr uint64_t kMinBudget = 1024;
 constexpr uint64_t kInitialBudget = 1u << 14;
 
 }  // namespace
 
 Progressive::Progressive(int width, int height, uint32_t targetSamples, double targetFrameSeconds)
-    : width_(width), height_(height), tilesX_((uint32_t(width) + kTile - 1) / kTile),
-      tilesY_((uint32_t(height) + kTile - 1) / kTile), target_(std::max(targetSamples, 1u)),
+    : width_(width), height_(height), target_(std::max(targetSamples, 1u)),
       targetSeconds_(targetFrameSeconds), budget_(kInitialBudget) {}
 
 void Progressive::restart() {
     pass_ = 0;
-    nextTile_ = 0;
+    nextRow_ = 0;
     clear_ = true;
 }
 
@@ -27,24 +26,19 @@ uint64_t Progressive::record(const Renderer& renderer, const vk::raii::CommandBu
         renderer.recordClear(cmd);
         clear_ = false;
     }
-    uint64_t pixels = uint64_t(width_) * height_;
     uint64_t recorded = 0;
     while (!done() && recorded < budget_) {
-        // A whole pass fits: one dispatch over the image. Otherwise tiles in
-        // scanline order until the budget is spent.
-        if (nextTile_ == 0 && budget_ - recorded >= pixels) {
-            renderer.recordTile(cmd, {.tile = glm::uvec4(0, 0, width_, height_), .samples = glm::uvec4(pass_, 1, 0, 0)});
-            recorded += pixels;
-            ++pass_;
-            continue;
-        }
-        uint32_t tx = nextTile_ % tilesX_, ty = nextTile_ / tilesX_;
-        uint32_t x = tx * kTile, y = ty * kTile;
-        uint32_t w = std::min(kTile, uint32_t(width_) - x), h = std::min(kTile, uint32_t(height_) - y);
-        renderer.recordTile(cmd, {.tile = glm::uvec4(x, y, w, h), .samples = glm::uvec4(pass_, 1, 0, 0)});
-        recorded += uint64_t(w) * h;
-        if (++nextTile_ == tilesX_ * tilesY_) {
-            nextTile_ = 0;
+        // A band of whole rows, as many as the budget pays for (whole
+        // work groups of rows, at least one): lavapipe pays several
+        // milliseconds per dispatch, so few wide dispatches beat many tiles.
+        uint64_t rowsPaid = (budget_ - recorded) / uint64_t(width_);
+        uint32_t rows = uint32_t(std::max<uint64_t>(rowsPaid / kRowStep * kRowStep, kRowStep));
+        rows = std::min(rows, uint32_t(height_) - nextRow_);
+        renderer.recordTile(cmd, {.tile = glm::uvec4(0, nextRow_, width_, rows), .samples = glm::uvec4(pass_, 1, 0, 0)});
+        recorded += uint64_t(width_) * rows;
+        nextRow_ += rows;
+        if (nextRow_ == uint32_t(height_)) {
+            nextRow_ = 0;
             ++pass_;
         }
     }

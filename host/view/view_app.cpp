@@ -155,6 +155,15 @@ private:
         restart(why);
     }
     void checkReload();
+    // " (N ms after the file changed)", from the file's modification time.
+    std::string sinceChange() const {
+        std::error_code ec;
+        auto modified = std::filesystem::last_write_time(options_.scene, ec);
+        if (ec) return "";
+        auto age = std::filesystem::file_time_type::clock::now() - modified;
+        return " (" + std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(age).count()) +
+               " ms after the file changed)";
+    }
     bool stepScript();  // false: the script quit or failed
     void flyFromKeys(double seconds);
     void saveImages();
@@ -266,10 +275,10 @@ void ViewApp::checkReload() {
         for (const std::string& w : scene_.warnings) log("warning: " + w);
         uploadScene("scene file reloaded");
         camera_.takeChanged();
-        log("reloaded " + options_.scene.string());
+        log("reloaded " + options_.scene.string() + sinceChange());
     } catch (const SceneError& e) {
         overlay_.error = e.what();
-        log(std::string("reload refused: ") + e.what());
+        log(std::string("reload refused: ") + e.what() + sinceChange());
     }
 }
 
@@ -342,6 +351,7 @@ bool ViewApp::stepScript() {
             return false;
         }
         // Waiting commands.
+        bool waited = c.name == "frames" || c.name == "spp" || c.name == "reload" || c.name == "hold";
         if (c.name == "frames") {
             double n = 0;
             if (!number(c.args[0], n) || n < 0) return fail("frames needs a count");
@@ -412,8 +422,11 @@ bool ViewApp::stepScript() {
             if (it == layers_.end()) return fail("unknown layer '" + c.args[0] + "'");
             layer_ = size_t(it - layers_.begin());
         } else if (c.name == "screenshot" || c.name == "window_screenshot") {
-            // Taken after this frame is drawn.
+            // Taken after this frame is drawn; later commands wait for it.
             pendingShots_.emplace_back(c.args[0], c.name == "window_screenshot");
+            ++scriptNext_;
+            waitStart_ = Clock::now();
+            return true;
         } else if (c.name == "save_images") {
             saveImages();
         } else if (c.name == "save_scene") {
@@ -423,17 +436,23 @@ bool ViewApp::stepScript() {
             ++scriptNext_;
             return true;
         }
+        // One command per frame: what it changed (a restart, a reload) is
+        // in place before the next command looks at the state.
         ++scriptNext_;
         waitStart_ = Clock::now();
+        if (!waited) return true;
     }
     return true;
 }
 
 int ViewApp::run() {
     auto last = Clock::now();
-    double smoothedRays = 0, smoothedMs = 0;
+    double smoothedRays = 0, smoothedMs = 0, overheadSeconds = 0;
+    double traceTotal = 0, frameTotal = 0, frameMax = 0;
+    long tracedFrames = 0;
     while (!quit_ && !window_.shouldClose()) {
-        bool idle = progressive_.done() && scriptNext_ >= script_.size() && heldKeys_.empty() && dragButton_ < 0;
+        bool idle = progressive_.done() && scriptNext_ >= script_.size() && heldKeys_.empty() && dragButton_ < 0 &&
+                    options_.frames == 0;
         if (idle) glfwWaitEventsTimeout(0.05);  // nothing to trace: don't spin the CPU
         else glfwPollEvents();
         auto now = Clock::now();
@@ -461,15 +480,27 @@ int ViewApp::run() {
         ImDrawData* drawData = imgui_.render();
 
         if (!presenter_.beginFrame()) continue;
+
+        // Tracing in a submission of its own, so that its time is measured
+        // apart from the display and the overlay; the budget gets what the
+        // frame target leaves after them.
         renderer_.counters() = {};
-        uint64_t recorded = progressive_.record(renderer_, presenter_.commandBuffer());
+        uint64_t recorded = 0;
+        auto traceStart = Clock::now();
+        if (!progressive_.done() || progressive_.needsClear())
+            ctx_.submitAndWait([&](vk::raii::CommandBuffer& cmd) { recorded = progressive_.record(renderer_, cmd); });
+        double traceSeconds = std::chrono::duration<double>(Clock::now() - traceStart).count();
+        double target = options_.targetFrameMs / 1000.0;
+        progressive_.setTargetSeconds(std::max(target - overheadSeconds, 0.25 * target));
+        progressive_.frameDone(traceSeconds, recorded);
+
         gpu::DisplayParams display = layers_[layer_].params;
         display.scale.y = depthScale_;
         presenter_.recordDisplay(display);
         bool captureWindow = std::any_of(pendingShots_.begin(), pendingShots_.end(), [](auto& s) { return s.second; });
         presenter_.recordOverlay(drawData, captureWindow);
-        double seconds = presenter_.endFrame();
-        progressive_.frameDone(seconds, recorded);
+        double presentSeconds = presenter_.endFrame();
+        overheadSeconds = overheadSeconds == 0 ? presentSeconds : 0.8 * overheadSeconds + 0.2 * presentSeconds;
         if (ctx_.validationMessageCount() > 0) {
             std::cerr << "whitted: the Vulkan validation layer reported " << ctx_.validationMessageCount()
                       << " message(s)\n";
@@ -478,15 +509,27 @@ int ViewApp::run() {
 
         const gpu::RayCounters& rays = renderer_.counters();
         double frameRays = double(rays.primary) + rays.shadow + rays.secondary;
-        smoothedMs = smoothedMs == 0 ? seconds * 1e3 : 0.9 * smoothedMs + 0.1 * seconds * 1e3;
-        if (recorded > 0) smoothedRays = smoothedRays == 0 ? frameRays / seconds : 0.9 * smoothedRays + 0.1 * frameRays / seconds;
+        double frameSeconds = traceSeconds + presentSeconds;
+        smoothedMs = smoothedMs == 0 ? frameSeconds * 1e3 : 0.9 * smoothedMs + 0.1 * frameSeconds * 1e3;
+        if (recorded > 0) {
+            smoothedRays = smoothedRays == 0 ? frameRays / traceSeconds : 0.9 * smoothedRays + 0.1 * frameRays / traceSeconds;
+            tracedFrames++;
+            traceTotal += traceSeconds;
+            frameTotal += frameSeconds;
+            frameMax = std::max(frameMax, frameSeconds);
+        }
         for (auto& [path, whole] : pendingShots_) writeScreenshot(path, whole);
         pendingShots_.clear();
         ++frame_;
         if (options_.frames > 0 && frame_ >= options_.frames) break;
     }
     if (options_.screenshot && status_ == kExitOk) writeScreenshot(*options_.screenshot, false);
-    log("closed after " + std::to_string(frame_) + " frames, " + std::to_string(progressive_.completedSamples()) + " spp");
+    char timing[160];
+    std::snprintf(timing, sizeof timing, "; frames that traced: %ld, mean %.1f ms (tracing %.1f ms), longest %.1f ms",
+                  tracedFrames, tracedFrames ? 1e3 * frameTotal / tracedFrames : 0.0,
+                  tracedFrames ? 1e3 * traceTotal / tracedFrames : 0.0, 1e3 * frameMax);
+    log("closed after " + std::to_string(frame_) + " frames, " + std::to_string(progressive_.completedSamples()) + " spp" +
+        timing);
     return status_;
 }
 
