@@ -155,6 +155,16 @@ private:
         restart(why);
     }
     void checkReload();
+    // A failed save (disk full, no permission) is shown, not fatal.
+    template <typename F>
+    void guarded(F&& f) {
+        try {
+            f();
+        } catch (const std::exception& e) {
+            overlay_.status = std::string("save failed: ") + e.what();
+            log(overlay_.status);
+        }
+    }
     // " (N ms after the file changed)", from the file's modification time.
     std::string sinceChange() const {
         std::error_code ec;
@@ -196,8 +206,8 @@ private:
     size_t scriptNext_ = 0;
     Clock::time_point waitStart_ = Clock::now();
     long waitFrames_ = -1;
-    bool waitingReload_ = false;
-    bool reloadSeen_ = false;
+    long reloadCount_ = 0;               // file changes seen, loaded or refused
+    std::optional<long> reloadMark_;     // what `reload` waits to exceed
     std::optional<std::pair<int, Clock::time_point>> scriptHold_;
     std::vector<std::pair<std::filesystem::path, bool>> pendingShots_;  // path, whole window
     bool quit_ = false;
@@ -221,10 +231,10 @@ void ViewApp::onKey(int key, int action, int mods) {
             break;
         case GLFW_KEY_0: layer_ = 0; log("showing color"); break;
         case GLFW_KEY_C: std::printf("%s", cameraXml(camera_.camera()).c_str()); std::fflush(stdout); break;
-        case GLFW_KEY_P: saveImages(); break;
+        case GLFW_KEY_P: guarded([&] { saveImages(); }); break;
         case GLFW_KEY_F1: editor_.visible = !editor_.visible; break;
         case GLFW_KEY_S:
-            if (mods & GLFW_MOD_CONTROL) saveScene();
+            if (mods & GLFW_MOD_CONTROL) guarded([&] { saveScene(); });
             break;
         default: break;
     }
@@ -262,7 +272,7 @@ void ViewApp::flyFromKeys(double seconds) {
 void ViewApp::checkReload() {
     std::optional<std::string> text = watcher_.poll();
     if (!text) return;
-    reloadSeen_ = true;
+    ++reloadCount_;
     try {
         Scene fresh = loadSceneFromString(*text, options_.scene);
         bool cameraChanged = fresh.camera.eye != scene_.camera.eye || fresh.camera.windowCenter != scene_.camera.windowCenter ||
@@ -364,12 +374,11 @@ bool ViewApp::stepScript() {
             if (n > progressive_.targetSamples()) return fail("spp " + c.args[0] + " is above the --spp budget");
             if (progressive_.completedSamples() < uint32_t(n)) return true;
         } else if (c.name == "reload") {
-            if (!waitingReload_) {
-                waitingReload_ = true;
-                reloadSeen_ = false;
-            }
-            if (!reloadSeen_) return true;
-            waitingReload_ = false;
+            // A reload after the last file edit of the script (it may have
+            // happened already, in the frame of the edit).
+            if (!reloadMark_) reloadMark_ = reloadCount_;
+            if (reloadCount_ <= *reloadMark_) return true;
+            reloadMark_.reset();
         } else if (c.name == "hold") {
             double seconds = 0;
             int key = keyByName(c.args[0]);
@@ -405,6 +414,7 @@ bool ViewApp::stepScript() {
             std::error_code ec;
             std::filesystem::copy_file(c.args[0], c.args[1], std::filesystem::copy_options::overwrite_existing, ec);
             if (ec) return fail("copy: " + ec.message());
+            reloadMark_ = reloadCount_;
         } else if (c.name == "replace") {
             std::ifstream in(c.args[0], std::ios::binary);
             std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -412,6 +422,7 @@ bool ViewApp::stepScript() {
             if (!in || at == std::string::npos) return fail("replace: '" + c.args[1] + "' not found in " + c.args[0]);
             text.replace(at, c.args[1].size(), c.args[2]);
             std::ofstream(c.args[0], std::ios::binary | std::ios::trunc) << text;  // in place, as an editor would
+            reloadMark_ = reloadCount_;
         } else if (c.name == "edit") {
             double index = 0, value = 0;
             if (!number(c.args[0], index) || !number(c.args[2], value)) return fail("edit OBJECT FIELD VALUE");
@@ -466,7 +477,7 @@ int ViewApp::run() {
         imgui_.newFrame();
         EditorResult edit = drawEditorPanel(scene_, editor_);
         if (edit.changed) uploadScene("edited in the panel");
-        if (edit.saveRequested) saveScene();
+        if (edit.saveRequested) guarded([&] { saveScene(); });
         if (camera_.takeChanged()) {
             renderer_.setCamera(camera_.camera());
             restart("camera moved");
