@@ -121,7 +121,7 @@ private:
     // that the overlay and the panel have room.
     static int windowScale(const ViewOptions& o, const Scene& s) {
         glm::ivec2 size = windowSize(o, s);
-        return std::max(1, std::min((800 + size.x - 1) / size.x, (600 + size.y - 1) / size.y));
+        return std::max(1, std::min(800 / size.x, 600 / size.y));
     }
     static ContextOptions contextOptions(const ViewOptions& o) {
         ContextOptions c{.validation = o.validation, .deviceName = o.device};
@@ -428,6 +428,11 @@ bool ViewApp::stepScript() {
             if (!number(c.args[0], index) || !number(c.args[2], value)) return fail("edit OBJECT FIELD VALUE");
             if (auto error = setObjectField(scene_, int(index), c.args[1], value)) return fail("edit: " + *error);
             uploadScene("edited object " + c.args[0]);
+        } else if (c.name == "select") {
+            double index = 0;
+            if ((c.args[0] != "light" && c.args[0] != "object") || !number(c.args[1], index)) return fail("select light|object N");
+            editor_.selectedLight = c.args[0] == "light" ? int(index) : -1;
+            editor_.selectedObject = c.args[0] == "object" ? int(index) : -1;
         } else if (c.name == "layer") {
             auto it = std::find_if(layers_.begin(), layers_.end(), [&](const LayerView& l) { return l.name == c.args[0]; });
             if (it == layers_.end()) return fail("unknown layer '" + c.args[0] + "'");

@@ -13,6 +13,7 @@
 //   replace FILE OLD NEW  replace the first OLD by NEW in FILE, written in place
 //   edit OBJECT FIELD V   what the editor panel does: object index, field
 //                         ior | kt | kr | ks | kd | ka | x | y | z, value
+//   select light|object N select an entry in the editor panel (shows its fields)
 //   layer NAME            show an auxiliary image (color = the main image)
 //   screenshot FILE       write the image shown (without overlay) as PNG
 //   window_screenshot FILE  write the whole window, overlay included
