@@ -15,6 +15,7 @@
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
 #include "io/image_io.h"
+#include "view/progressive.h"
 #include "test_support.h"
 
 #include <cstdio>
@@ -338,6 +339,43 @@ TEST(SceneWriter, WritesAtomically) {
     size_t files = 0;
     for (const auto& e : fs::directory_iterator(dir)) files += e.is_regular_file();
     EXPECT_EQ(files, 1u) << "a temporary file was left behind";
+}
+
+}  // namespace
+}  // namespace whitted::test
+
+namespace whitted::test {
+namespace {
+
+// The progressive scheduler without a window: frames of a small budget,
+// passes spread over several frames, end with the sums of render().
+TEST(ViewProgressive, FramesAddUpToRender) {
+    Scene scene = loadScene(sourceDir() / "scenes" / "room.xml");
+    RenderSettings settings{.width = 96, .height = 72, .samplesPerPixel = 3};
+    RenderResult reference = renderScene(scene, settings);
+
+    Renderer renderer(testContext(), scene, settings);
+    Progressive progressive(96, 72, 3, 1e-9);  // an impossible target: the budget falls to its minimum
+    int frames = 0;
+    uint64_t total = 0;
+    while (!progressive.done()) {
+        uint64_t recorded = 0, budget = progressive.budget();
+        testContext().submitAndWait([&](vk::raii::CommandBuffer& cmd) { recorded = progressive.record(renderer, cmd); });
+        progressive.frameDone(1.0, recorded);
+        EXPECT_LT(recorded, budget + 96 * gpu::kWorkgroupSize);  // at most one band of 8 rows over
+        total += recorded;
+        ASSERT_LT(++frames, 1000);
+    }
+    EXPECT_EQ(total, 96u * 72u * 3u);
+    EXPECT_GT(frames, 3 * 2) << "each pass should have taken several frames";
+    EXPECT_EQ(testContext().validationMessageCount(), 0u);
+
+    RenderResult means = renderer.readMeans();
+    EXPECT_EQ(means.samplesPerPixel, 3);
+    for (uint32_t layer : {gpu::kAovColor, gpu::kAovDiffuse, gpu::kAovNormal})
+        for (size_t i = 0; i < reference.layers[layer].size(); ++i)
+            ASSERT_NEAR(means.layers[layer][i], reference.layers[layer][i], 1e-5f * (1 + std::abs(reference.layers[layer][i])))
+                << "layer " << layer << " value " << i;
 }
 
 }  // namespace

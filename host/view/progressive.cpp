@@ -7,7 +7,7 @@ namespace {
 
 constexpr uint32_t kRowStep = gpu::kWorkgroupSize;  // rows of one work group
 constexpr uint64_t kMinBudget = 1024;
-constexpr uint64_t kInitialBudget = 1u << 14;
+constexpr uint64_t kInitialBudget = 1u << 12;
 
 }  // namespace
 
