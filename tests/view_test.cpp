@@ -238,6 +238,41 @@ TEST(View, AuxiliaryLayersAndSave) {
     EXPECT_LE(compareRgb(readPng(entries[0] / "image.png"), readPng(dir / "r.png")).maxLevels, 1);
 }
 
+// Real X input (XTEST events from xdotool) through GLFW and ImGui: L shows
+// the next layer, a left drag orbits, a click on "6: sphere" in the panel
+// and one on the left end of its IOR slider set an IOR near 1.1, a click on
+// Save writes it, Escape closes. The positions are those of the 800x600
+// window of a 160x120 image (enlarged 5 times) with ImGui 1.86's default
+// font; the sleeps leave the window several frames to see each move.
+TEST(View, RealInputDrivesCameraAndPanel) {
+    fs::path dir = scratchDir("xinput");
+    writeText(dir / "scene.xml", readText(room()));
+    writeText(dir / "drive.sh",
+              "\"$1\" view scene.xml " + std::string(kSmall) + " > view.log 2>&1 &\n"
+              "pid=$!\n"
+              "xdotool search --sync --name 'whitted view' > /dev/null\n"
+              "sleep 2\n"
+              "xdotool mousemove 200 300 sleep 0.8 key l sleep 0.8\n"
+              "xdotool mousedown 1 sleep 0.3 mousemove 250 300 sleep 0.3 mousemove 300 310 sleep 0.3 mouseup 1 sleep 1\n"
+              "xdotool mousemove 650 247 sleep 0.8 click 1 sleep 1\n"
+              "xdotool mousemove 440 551 sleep 0.8 click 1 sleep 1\n"
+              "xdotool mousemove 443 45 sleep 0.8 click 1 sleep 1\n"
+              "xdotool mousemove 200 300 sleep 0.5 key Escape\n"
+              "wait $pid\n");
+    ProcessRun run = runShell("xvfb-run -a -s '-screen 0 1024x768x24' sh drive.sh '" WHITTED_EXECUTABLE "'; echo status $?", dir);
+    std::string log = readText(dir / "view.log");
+    ASSERT_NE(run.output.find("status 0"), std::string::npos) << run.output << log;
+    EXPECT_NE(log.find("showing ambient"), std::string::npos) << log;
+    EXPECT_NE(log.find("restart (camera moved)"), std::string::npos) << log;
+    EXPECT_NE(log.find("restart (edited in the panel)"), std::string::npos) << log;
+    EXPECT_NE(log.find("saved scene to scene.xml"), std::string::npos) << log;
+    Scene saved = loadScene(dir / "scene.xml");
+    ASSERT_EQ(saved.objects.size(), 9u);
+    EXPECT_GT(saved.objects[6].material.ior, 1.0);
+    EXPECT_LT(saved.objects[6].material.ior, 1.3);
+    EXPECT_EQ(saved.objects[6].material.transmission, 0.8);
+}
+
 TEST(View, BadInputExitsBeforeOpeningAWindow) {
     fs::path dir = scratchDir("bad");
     ProcessRun missing = runShell("'" WHITTED_EXECUTABLE "' view no_such.xml", dir);

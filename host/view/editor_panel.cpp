@@ -75,9 +75,10 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
     EditorResult result;
     if (!state.visible) return result;
     const ImGuiViewport* vp = ImGui::GetMainViewport();
-    ImGui::SetNextWindowPos(ImVec2(vp->Size.x - 8, 8), ImGuiCond_FirstUseEver, ImVec2(1, 0));
-    ImGui::SetNextWindowSize(ImVec2(300, 0), ImGuiCond_FirstUseEver);
-    if (!ImGui::Begin("Scene (F1 hides)", &state.visible)) {
+    // Anchored to the top right corner, sized to what it shows.
+    ImGui::SetNextWindowPos(ImVec2(vp->Size.x - 8, 8), ImGuiCond_Always, ImVec2(1, 0));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    if (!ImGui::Begin("Scene (F1 hides)", &state.visible, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::End();
         return result;
     }

@@ -33,6 +33,9 @@ Window::Window(int width, int height, const std::string& title) {
         glfwTerminate();
         throw std::runtime_error("cannot open a window: " + error);
     }
+    // Without a window manager (Xvfb) nobody gives the window the focus,
+    // and ImGui's GLFW back end reads the mouse only in a focused window.
+    glfwFocusWindow(window_);
     glfwSetWindowUserPointer(window_, this);
     glfwSetKeyCallback(window_, keyCallback);
     glfwSetCharCallback(window_, charCallback);
