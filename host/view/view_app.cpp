@@ -280,6 +280,7 @@ void ViewApp::checkReload() {
                              fresh.camera.verticalFovDegrees != scene_.camera.verticalFovDegrees;
         scene_ = std::move(fresh);
         if (cameraChanged) camera_.setHome(scene_.camera, sceneRadius(scene_));
+        depthScale_ = float(sceneRadius(scene_));
         overlay_.error.clear();
         overlay_.status = "reloaded " + options_.scene.filename().string();
         for (const std::string& w : scene_.warnings) log("warning: " + w);
@@ -495,7 +496,10 @@ int ViewApp::run() {
         drawOverlay(overlay_);
         ImDrawData* drawData = imgui_.render();
 
-        if (!presenter_.beginFrame()) continue;
+        if (!presenter_.beginFrame()) {  // minimised, or the swapchain was rebuilt
+            glfwWaitEventsTimeout(0.05);
+            continue;
+        }
 
         // Tracing in a submission of its own, so that its time is measured
         // apart from the display and the overlay; the budget gets what the
