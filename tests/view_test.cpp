@@ -12,17 +12,18 @@
 // host). Either moves a value across an 8-bit rounding boundary at most, so
 // 1 level; a wrong sample count, a missed restart or stale scene data moves
 // whole regions by far more.
-#include "scene/scene_loader.h"
-#include "scene/scene_writer.h"
-#include "io/image_io.h"
-#include "view/progressive.h"
-#include "test_support.h"
+#include <sys/wait.h>
 
 #include <cstdio>
 #include <fstream>
 #include <regex>
 #include <sstream>
-#include <sys/wait.h>
+
+#include "io/image_io.h"
+#include "scene/scene_loader.h"
+#include "scene/scene_writer.h"
+#include "test_support.h"
+#include "view/progressive.h"
 
 namespace whitted::test {
 namespace {
@@ -60,7 +61,9 @@ fs::path scratchDir(const std::string& name) {
     return dir;
 }
 
-void writeText(const fs::path& path, const std::string& text) { std::ofstream(path, std::ios::binary) << text; }
+void writeText(const fs::path& path, const std::string& text) {
+    std::ofstream(path, std::ios::binary) << text;
+}
 
 std::string readText(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -103,7 +106,9 @@ Difference compareRgb(const Image8& a, const Image8& b) {
     return d;
 }
 
-std::string room() { return (sourceDir() / "scenes" / "room.xml").string(); }
+std::string room() {
+    return (sourceDir() / "scenes" / "room.xml").string();
+}
 
 constexpr const char* kSmall = "--width 160 --height 120 --spp 4";
 
@@ -127,7 +132,8 @@ TEST(View, CameraMoveRestartsAccumulation) {
     ASSERT_EQ(view.status, 0) << view.output;
     // The drag and the reset each restart.
     std::regex restart("restart \\(camera moved\\)");
-    EXPECT_EQ(std::distance(std::sregex_iterator(view.output.begin(), view.output.end(), restart), std::sregex_iterator()), 2)
+    EXPECT_EQ(
+        std::distance(std::sregex_iterator(view.output.begin(), view.output.end(), restart), std::sregex_iterator()), 2)
         << view.output;
     ASSERT_EQ(runRender(room() + " " + kSmall + " --aov none -o render.png", dir).status, 0);
     Image8 render = readPng(dir / "render.png");
@@ -155,7 +161,8 @@ TEST(View, FileEditIsPickedUp) {
     ProcessRun view = runView("scene.xml " + std::string(kSmall) + " --script script.txt", dir);
     ASSERT_EQ(view.status, 0) << view.output;
     std::smatch m;
-    ASSERT_TRUE(std::regex_search(view.output, m, std::regex("reloaded scene.xml \\((\\d+) ms after the file changed\\)")))
+    ASSERT_TRUE(
+        std::regex_search(view.output, m, std::regex("reloaded scene.xml \\((\\d+) ms after the file changed\\)")))
         << view.output;
     EXPECT_LT(std::stoi(m[1]), 1000);
     ASSERT_EQ(runRender("edited.xml " + std::string(kSmall) + " --aov none -o edited.png", dir).status, 0);
@@ -189,8 +196,7 @@ TEST(View, BrokenEditKeepsWindowAndShowsError) {
     auto bannerPixels = [](const Image8& w) {
         int n = 0;
         for (int y = w.height * 3 / 4; y < w.height; ++y)
-            for (int x = 0; x < w.width; ++x)
-                n += w.at(x, y, 0) > 150 && w.at(x, y, 1) < 40 && w.at(x, y, 2) < 40;
+            for (int x = 0; x < w.width; ++x) n += w.at(x, y, 0) > 150 && w.at(x, y, 1) < 40 && w.at(x, y, 2) < 40;
         return n;
     };
     Image8 broken = readPng(dir / "broken_window.png");
@@ -205,8 +211,9 @@ TEST(View, BrokenEditKeepsWindowAndShowsError) {
 TEST(View, EditorEditAndSave) {
     fs::path dir = scratchDir("editor");
     writeText(dir / "scene.xml", readText(room()));
-    writeText(dir / "script.txt", "spp 4\nscreenshot before.png\nedit 6 ior 1.0\nspp 4\nscreenshot ior1.png\n"
-                                  "save_scene\nquit\n");
+    writeText(dir / "script.txt",
+              "spp 4\nscreenshot before.png\nedit 6 ior 1.0\nspp 4\nscreenshot ior1.png\n"
+              "save_scene\nquit\n");
     ProcessRun view = runView("scene.xml " + std::string(kSmall) + " --script script.txt", dir);
     ASSERT_EQ(view.status, 0) << view.output;
     Scene saved = loadScene(dir / "scene.xml");
@@ -223,8 +230,9 @@ TEST(View, EditorEditAndSave) {
 // key fills a history folder like `render` does.
 TEST(View, AuxiliaryLayersAndSave) {
     fs::path dir = scratchDir("layers");
-    writeText(dir / "script.txt", "spp 4\nlayer diffuse\nframes 1\nscreenshot diffuse.png\n"
-                                  "layer normal\nframes 1\nscreenshot normal.png\nsave_images\nquit\n");
+    writeText(dir / "script.txt",
+              "spp 4\nlayer diffuse\nframes 1\nscreenshot diffuse.png\n"
+              "layer normal\nframes 1\nscreenshot normal.png\nsave_images\nquit\n");
     ProcessRun view = runView(room() + " " + kSmall + " --script script.txt", dir);
     ASSERT_EQ(view.status, 0) << view.output;
     ASSERT_EQ(runRender(room() + " " + kSmall + " -o r.png", dir).status, 0);
@@ -247,19 +255,22 @@ TEST(View, AuxiliaryLayersAndSave) {
 TEST(View, RealInputDrivesCameraAndPanel) {
     fs::path dir = scratchDir("xinput");
     writeText(dir / "scene.xml", readText(room()));
-    writeText(dir / "drive.sh",
-              "\"$1\" view scene.xml " + std::string(kSmall) + " > view.log 2>&1 &\n"
-              "pid=$!\n"
-              "xdotool search --sync --name 'whitted view' > /dev/null\n"
-              "sleep 2\n"
-              "xdotool mousemove 200 300 sleep 0.8 key l sleep 0.8\n"
-              "xdotool mousedown 1 sleep 0.3 mousemove 250 300 sleep 0.3 mousemove 300 310 sleep 0.3 mouseup 1 sleep 1\n"
-              "xdotool mousemove 650 247 sleep 0.8 click 1 sleep 1\n"
-              "xdotool mousemove 440 551 sleep 0.8 click 1 sleep 1\n"
-              "xdotool mousemove 443 45 sleep 0.8 click 1 sleep 1\n"
-              "xdotool mousemove 200 300 sleep 0.5 key Escape\n"
-              "wait $pid\n");
-    ProcessRun run = runShell("xvfb-run -a -s '-screen 0 1024x768x24' sh drive.sh '" WHITTED_EXECUTABLE "'; echo status $?", dir);
+    writeText(
+        dir / "drive.sh",
+        "\"$1\" view scene.xml " + std::string(kSmall) +
+            " > view.log 2>&1 &\n"
+            "pid=$!\n"
+            "xdotool search --sync --name 'whitted view' > /dev/null\n"
+            "sleep 2\n"
+            "xdotool mousemove 200 300 sleep 0.8 key l sleep 0.8\n"
+            "xdotool mousedown 1 sleep 0.3 mousemove 250 300 sleep 0.3 mousemove 300 310 sleep 0.3 mouseup 1 sleep 1\n"
+            "xdotool mousemove 650 247 sleep 0.8 click 1 sleep 1\n"
+            "xdotool mousemove 440 551 sleep 0.8 click 1 sleep 1\n"
+            "xdotool mousemove 443 45 sleep 0.8 click 1 sleep 1\n"
+            "xdotool mousemove 200 300 sleep 0.5 key Escape\n"
+            "wait $pid\n");
+    ProcessRun run =
+        runShell("xvfb-run -a -s '-screen 0 1024x768x24' sh drive.sh '" WHITTED_EXECUTABLE "'; echo status $?", dir);
     std::string log = readText(dir / "view.log");
     ASSERT_NE(run.output.find("status 0"), std::string::npos) << run.output << log;
     EXPECT_NE(log.find("showing ambient"), std::string::npos) << log;
@@ -290,8 +301,7 @@ TEST(View, BadInputExitsBeforeOpeningAWindow) {
 
 // load -> write -> load gives the same Scene: every scene shipped.
 void expectClose(const glm::dvec3& a, const glm::dvec3& b, const std::string& what) {
-    for (int i = 0; i < 3; ++i)
-        EXPECT_NEAR(a[i], b[i], 1e-12 * std::max(1.0, std::abs(a[i]))) << what;
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(a[i], b[i], 1e-12 * std::max(1.0, std::abs(a[i]))) << what;
 }
 
 TEST(SceneWriter, RoundTripGivesEqualScene) {
@@ -332,36 +342,38 @@ TEST(SceneWriter, RoundTripGivesEqualScene) {
             EXPECT_EQ(m.transmission, n.transmission);
             EXPECT_EQ(m.ior, n.ior);
             std::string what = "object " + std::to_string(i);
-            std::visit([&](const auto& s) {
-                using T = std::decay_t<decltype(s)>;
-                const T& t = std::get<T>(y.shape);
-                if constexpr (std::is_same_v<T, Sphere>) {
-                    EXPECT_EQ(s.center, t.center);
-                    EXPECT_EQ(s.radius, t.radius);
-                } else if constexpr (std::is_same_v<T, Cylinder>) {
-                    EXPECT_EQ(s.base, t.base);
-                    expectClose(s.axis, t.axis, what);
-                    EXPECT_EQ(s.radius, t.radius);
-                    EXPECT_EQ(s.height, t.height);
-                } else if constexpr (std::is_same_v<T, Plane>) {
-                    EXPECT_EQ(s.point, t.point);
-                    expectClose(s.normal, t.normal, what);
-                } else if constexpr (std::is_same_v<T, Triangle>) {
-                    EXPECT_EQ(s.v0, t.v0);
-                    EXPECT_EQ(s.v1, t.v1);
-                    EXPECT_EQ(s.v2, t.v2);
-                } else if constexpr (std::is_same_v<T, Box>) {
-                    EXPECT_EQ(s.min, t.min);
-                    expectClose(s.max, t.max, what);
-                } else {
-                    ASSERT_EQ(s.triangles.size(), t.triangles.size());
-                    for (size_t k = 0; k < s.triangles.size(); ++k) {
-                        EXPECT_EQ(s.triangles[k].v0, t.triangles[k].v0);
-                        EXPECT_EQ(s.triangles[k].v1, t.triangles[k].v1);
-                        EXPECT_EQ(s.triangles[k].v2, t.triangles[k].v2);
+            std::visit(
+                [&](const auto& s) {
+                    using T = std::decay_t<decltype(s)>;
+                    const T& t = std::get<T>(y.shape);
+                    if constexpr (std::is_same_v<T, Sphere>) {
+                        EXPECT_EQ(s.center, t.center);
+                        EXPECT_EQ(s.radius, t.radius);
+                    } else if constexpr (std::is_same_v<T, Cylinder>) {
+                        EXPECT_EQ(s.base, t.base);
+                        expectClose(s.axis, t.axis, what);
+                        EXPECT_EQ(s.radius, t.radius);
+                        EXPECT_EQ(s.height, t.height);
+                    } else if constexpr (std::is_same_v<T, Plane>) {
+                        EXPECT_EQ(s.point, t.point);
+                        expectClose(s.normal, t.normal, what);
+                    } else if constexpr (std::is_same_v<T, Triangle>) {
+                        EXPECT_EQ(s.v0, t.v0);
+                        EXPECT_EQ(s.v1, t.v1);
+                        EXPECT_EQ(s.v2, t.v2);
+                    } else if constexpr (std::is_same_v<T, Box>) {
+                        EXPECT_EQ(s.min, t.min);
+                        expectClose(s.max, t.max, what);
+                    } else {
+                        ASSERT_EQ(s.triangles.size(), t.triangles.size());
+                        for (size_t k = 0; k < s.triangles.size(); ++k) {
+                            EXPECT_EQ(s.triangles[k].v0, t.triangles[k].v0);
+                            EXPECT_EQ(s.triangles[k].v1, t.triangles[k].v1);
+                            EXPECT_EQ(s.triangles[k].v2, t.triangles[k].v2);
+                        }
                     }
-                }
-            }, x.shape);
+                },
+                x.shape);
         }
     }
 }
@@ -395,7 +407,8 @@ TEST(ViewProgressive, FramesAddUpToRender) {
     uint64_t total = 0;
     while (!progressive.done()) {
         uint64_t recorded = 0, budget = progressive.budget();
-        testContext().submitAndWait([&](vk::raii::CommandBuffer& cmd) { recorded = progressive.record(renderer, cmd); });
+        testContext().submitAndWait(
+            [&](vk::raii::CommandBuffer& cmd) { recorded = progressive.record(renderer, cmd); });
         progressive.frameDone(1.0, recorded);
         EXPECT_LT(recorded, budget + 96 * gpu::kWorkgroupSize);  // at most one band of 8 rows over
         total += recorded;
@@ -409,7 +422,8 @@ TEST(ViewProgressive, FramesAddUpToRender) {
     EXPECT_EQ(means.samplesPerPixel, 3);
     for (uint32_t layer : {gpu::kAovColor, gpu::kAovDiffuse, gpu::kAovNormal})
         for (size_t i = 0; i < reference.layers[layer].size(); ++i)
-            ASSERT_NEAR(means.layers[layer][i], reference.layers[layer][i], 1e-5f * (1 + std::abs(reference.layers[layer][i])))
+            ASSERT_NEAR(means.layers[layer][i], reference.layers[layer][i],
+                        1e-5f * (1 + std::abs(reference.layers[layer][i])))
                 << "layer " << layer << " value " << i;
 }
 

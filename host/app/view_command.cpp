@@ -1,11 +1,11 @@
 // `whitted view`: checks the scene, the script and the screenshot folder
 // (bad input: FILE:LINE and exit status 2 before any window opens), then
 // hands over to the live window (host/view/view_app.h).
+#include <iostream>
+
 #include "app/commands.h"
 #include "scene/scene_loader.h"
 #include "view/view_app.h"
-
-#include <iostream>
 
 namespace whitted {
 
@@ -28,7 +28,8 @@ int runViewCommand(const ViewOptions& options) {
         }
     }
     if (options.screenshot) {
-        std::filesystem::path parent = options.screenshot->parent_path().empty() ? "." : options.screenshot->parent_path();
+        std::filesystem::path parent =
+            options.screenshot->parent_path().empty() ? "." : options.screenshot->parent_path();
         if (!std::filesystem::is_directory(parent)) {
             std::cerr << "whitted: screenshot folder " << parent.string() << " does not exist\n";
             return kExitBadInput;

@@ -1,11 +1,11 @@
 #include "scene/scene_writer.h"
 
-#include "io/render_record.h"  // writeTextFile: temporary file + rename
-
 #include <cstdio>
 #include <sstream>
 #include <type_traits>
 #include <variant>
+
+#include "io/render_record.h"  // writeTextFile: temporary file + rename
 
 namespace whitted {
 namespace {
@@ -58,13 +58,19 @@ void writeObject(XmlOut& x, const Object& o) {
     const Material& m = o.material;
     x.open("object");
     // Position first (the seed's order), for the shapes that have one.
-    std::visit([&](const auto& s) {
-        using T = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<T, Sphere>) x.vector("position", s.center);
-        else if constexpr (std::is_same_v<T, Cylinder>) x.vector("position", s.base);
-        else if constexpr (std::is_same_v<T, Plane>) x.vector("position", s.point);
-        else if constexpr (std::is_same_v<T, Box>) x.vector("position", s.min);
-    }, o.shape);
+    std::visit(
+        [&](const auto& s) {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, Sphere>)
+                x.vector("position", s.center);
+            else if constexpr (std::is_same_v<T, Cylinder>)
+                x.vector("position", s.base);
+            else if constexpr (std::is_same_v<T, Plane>)
+                x.vector("position", s.point);
+            else if constexpr (std::is_same_v<T, Box>)
+                x.vector("position", s.min);
+        },
+        o.shape);
     x.colour("diffuse_color", m.diffuseColor);
     x.colour("specular_color", m.specularColor);
     x.open("properties");
@@ -77,30 +83,32 @@ void writeObject(XmlOut& x, const Object& o) {
     x.value("ambiente_coef", m.ambient);
     x.value("shininess", m.shininess);
     x.value("reflection_coef", m.reflection);  // kr itself; <reflective> is left out
-    std::visit([&](const auto& s) {
-        using T = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<T, Sphere>) {
-            x.value("radius", s.radius);
-        } else if constexpr (std::is_same_v<T, Cylinder>) {
-            x.value("radius", s.radius);
-            x.value("height", s.height);
-            x.vector("axis", s.axis);
-        } else if constexpr (std::is_same_v<T, Plane>) {
-            x.vector("normal", s.normal);
-        } else if constexpr (std::is_same_v<T, Triangle>) {
-            writeTriangleVertices(x, s);  // no position: the vertices are world space
-        } else if constexpr (std::is_same_v<T, Box>) {
-            x.vector("size", s.max - s.min);
-        } else {
-            x.open("polygons");
-            for (const Triangle& t : s.triangles) {
-                x.open("polygon");
-                writeTriangleVertices(x, t);
-                x.close("polygon");
+    std::visit(
+        [&](const auto& s) {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, Sphere>) {
+                x.value("radius", s.radius);
+            } else if constexpr (std::is_same_v<T, Cylinder>) {
+                x.value("radius", s.radius);
+                x.value("height", s.height);
+                x.vector("axis", s.axis);
+            } else if constexpr (std::is_same_v<T, Plane>) {
+                x.vector("normal", s.normal);
+            } else if constexpr (std::is_same_v<T, Triangle>) {
+                writeTriangleVertices(x, s);  // no position: the vertices are world space
+            } else if constexpr (std::is_same_v<T, Box>) {
+                x.vector("size", s.max - s.min);
+            } else {
+                x.open("polygons");
+                for (const Triangle& t : s.triangles) {
+                    x.open("polygon");
+                    writeTriangleVertices(x, t);
+                    x.close("polygon");
+                }
+                x.close("polygons");
             }
-            x.close("polygons");
-        }
-    }, o.shape);
+        },
+        o.shape);
     x.close("properties");
     x.close("object");
 }
@@ -137,6 +145,8 @@ std::string sceneXml(const Scene& scene) {
     return x.str();
 }
 
-void writeSceneFile(const Scene& scene, const std::filesystem::path& path) { writeTextFile(path, sceneXml(scene)); }
+void writeSceneFile(const Scene& scene, const std::filesystem::path& path) {
+    writeTextFile(path, sceneXml(scene));
+}
 
 }  // namespace whitted

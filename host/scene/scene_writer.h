@@ -4,10 +4,10 @@
 // 17 significant digits so that doubles survive the text round trip.
 #pragma once
 
-#include "scene/scene.h"
-
 #include <filesystem>
 #include <string>
+
+#include "scene/scene.h"
 
 namespace whitted {
 

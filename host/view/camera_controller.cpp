@@ -1,11 +1,11 @@
 #include "view/camera_controller.h"
 
-#include "scene/scene_writer.h"
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <variant>
+
+#include "scene/scene_writer.h"
 
 namespace whitted {
 namespace {
@@ -16,7 +16,9 @@ constexpr double kZoomPerStep = 0.9;
 
 }  // namespace
 
-CameraController::CameraController(const Camera& home, double radius) { setHome(home, radius); }
+CameraController::CameraController(const Camera& home, double radius) {
+    setHome(home, radius);
+}
 
 void CameraController::setHome(const Camera& home, double radius) {
     home_ = home;
@@ -62,7 +64,8 @@ void CameraController::pan(double dx, double dy, int viewportHeight) {
     glm::dvec3 forward = glm::normalize(camera_.windowCenter - camera_.eye);
     glm::dvec3 right = glm::normalize(glm::cross(forward, up_));
     glm::dvec3 up = glm::cross(right, forward);
-    double perPixel = 2.0 * distance_ * std::tan(glm::radians(camera_.verticalFovDegrees) / 2) / std::max(viewportHeight, 1);
+    double perPixel =
+        2.0 * distance_ * std::tan(glm::radians(camera_.verticalFovDegrees) / 2) / std::max(viewportHeight, 1);
     pivot_ += (-dx * right + dy * up) * perPixel;
     apply();
 }
@@ -86,7 +89,9 @@ bool CameraController::takeChanged() {
     return c;
 }
 
-std::string cameraXml(const Camera& camera, int indent) { return sceneCameraXml(camera, indent); }
+std::string cameraXml(const Camera& camera, int indent) {
+    return sceneCameraXml(camera, indent);
+}
 
 double sceneRadius(const Scene& scene) {
     glm::dvec3 lo(1e300), hi(-1e300);
@@ -96,15 +101,32 @@ double sceneRadius(const Scene& scene) {
     };
     for (const PointLight& l : scene.lights) add(l.position);
     for (const Object& o : scene.objects)
-        std::visit([&](const auto& s) {
-            using T = std::decay_t<decltype(s)>;
-            if constexpr (std::is_same_v<T, Sphere>) { add(s.center - s.radius); add(s.center + s.radius); }
-            else if constexpr (std::is_same_v<T, Cylinder>) { add(s.base); add(s.base + s.axis * s.height); }
-            else if constexpr (std::is_same_v<T, Plane>) add(s.point);
-            else if constexpr (std::is_same_v<T, Triangle>) { add(s.v0); add(s.v1); add(s.v2); }
-            else if constexpr (std::is_same_v<T, Box>) { add(s.min); add(s.max); }
-            else for (const Triangle& t : s.triangles) { add(t.v0); add(t.v1); add(t.v2); }
-        }, o.shape);
+        std::visit(
+            [&](const auto& s) {
+                using T = std::decay_t<decltype(s)>;
+                if constexpr (std::is_same_v<T, Sphere>) {
+                    add(s.center - s.radius);
+                    add(s.center + s.radius);
+                } else if constexpr (std::is_same_v<T, Cylinder>) {
+                    add(s.base);
+                    add(s.base + s.axis * s.height);
+                } else if constexpr (std::is_same_v<T, Plane>)
+                    add(s.point);
+                else if constexpr (std::is_same_v<T, Triangle>) {
+                    add(s.v0);
+                    add(s.v1);
+                    add(s.v2);
+                } else if constexpr (std::is_same_v<T, Box>) {
+                    add(s.min);
+                    add(s.max);
+                } else
+                    for (const Triangle& t : s.triangles) {
+                        add(t.v0);
+                        add(t.v1);
+                        add(t.v2);
+                    }
+            },
+            o.shape);
     if (lo.x > hi.x) return 1.0;
     return std::max(0.5 * glm::length(hi - lo), 1e-3);
 }

@@ -5,9 +5,9 @@
 // window distance and field of view stay as the file gives them.
 #pragma once
 
-#include "scene/scene.h"
-
 #include <string>
+
+#include "scene/scene.h"
 
 namespace whitted {
 
@@ -37,8 +37,8 @@ private:
     double sceneRadius_ = 1;
     double windowDistance_ = 1;
     glm::dvec3 pivot_{0};
-    double distance_ = 1;  // eye to pivot
-    double yaw_ = 0, pitch_ = 0;  // of the view direction, about up
+    double distance_ = 1;                                          // eye to pivot
+    double yaw_ = 0, pitch_ = 0;                                   // of the view direction, about up
     glm::dvec3 up_{0, 1, 0}, reference_{1, 0, 0}, side_{0, 0, 1};  // orthonormal frame
     bool changed_ = false;
 };

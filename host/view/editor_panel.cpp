@@ -174,27 +174,50 @@ std::optional<std::string> setObjectField(Scene& scene, int object, const std::s
 }
 
 void translateShape(Shape& shape, const glm::dvec3& d) {
-    std::visit([&](auto& s) {
-        using T = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<T, Sphere>) s.center += d;
-        else if constexpr (std::is_same_v<T, Cylinder>) s.base += d;
-        else if constexpr (std::is_same_v<T, Plane>) s.point += d;
-        else if constexpr (std::is_same_v<T, Triangle>) { s.v0 += d; s.v1 += d; s.v2 += d; }
-        else if constexpr (std::is_same_v<T, Box>) { s.min += d; s.max += d; }
-        else for (Triangle& t : s.triangles) { t.v0 += d; t.v1 += d; t.v2 += d; }
-    }, shape);
+    std::visit(
+        [&](auto& s) {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, Sphere>)
+                s.center += d;
+            else if constexpr (std::is_same_v<T, Cylinder>)
+                s.base += d;
+            else if constexpr (std::is_same_v<T, Plane>)
+                s.point += d;
+            else if constexpr (std::is_same_v<T, Triangle>) {
+                s.v0 += d;
+                s.v1 += d;
+                s.v2 += d;
+            } else if constexpr (std::is_same_v<T, Box>) {
+                s.min += d;
+                s.max += d;
+            } else
+                for (Triangle& t : s.triangles) {
+                    t.v0 += d;
+                    t.v1 += d;
+                    t.v2 += d;
+                }
+        },
+        shape);
 }
 
 glm::dvec3 shapeReferencePoint(const Shape& shape) {
-    return std::visit([](const auto& s) -> glm::dvec3 {
-        using T = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<T, Sphere>) return s.center;
-        else if constexpr (std::is_same_v<T, Cylinder>) return s.base;
-        else if constexpr (std::is_same_v<T, Plane>) return s.point;
-        else if constexpr (std::is_same_v<T, Triangle>) return s.v0;
-        else if constexpr (std::is_same_v<T, Box>) return s.min;
-        else return s.triangles.empty() ? glm::dvec3(0) : s.triangles.front().v0;
-    }, shape);
+    return std::visit(
+        [](const auto& s) -> glm::dvec3 {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, Sphere>)
+                return s.center;
+            else if constexpr (std::is_same_v<T, Cylinder>)
+                return s.base;
+            else if constexpr (std::is_same_v<T, Plane>)
+                return s.point;
+            else if constexpr (std::is_same_v<T, Triangle>)
+                return s.v0;
+            else if constexpr (std::is_same_v<T, Box>)
+                return s.min;
+            else
+                return s.triangles.empty() ? glm::dvec3(0) : s.triangles.front().v0;
+        },
+        shape);
 }
 
 }  // namespace whitted

@@ -3,22 +3,22 @@
 // scene editor (lights and objects; position, colours, coefficients; Save).
 #pragma once
 
-#include "scene/scene.h"
-
 #include <optional>
 #include <string>
+
+#include "scene/scene.h"
 
 namespace whitted {
 
 struct OverlayInfo {
     std::string device;
-    std::string layer;       // name of the image shown
-    uint32_t samples = 0;    // completed samples per pixel
+    std::string layer;     // name of the image shown
+    uint32_t samples = 0;  // completed samples per pixel
     uint32_t target = 0;
     double frameMs = 0;
     double raysPerSecond = 0;
-    std::string error;       // the last refused reload, empty when fine
-    std::string status;      // the last event (saved, reloaded, ...)
+    std::string error;   // the last refused reload, empty when fine
+    std::string status;  // the last event (saved, reloaded, ...)
 };
 
 void drawOverlay(const OverlayInfo& info);

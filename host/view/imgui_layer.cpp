@@ -21,9 +21,11 @@ void checkVk(VkResult r) {
 ImGuiLayer::ImGuiLayer(VulkanContext& ctx, GLFWwindow* window, Presenter& presenter) {
     // The back end allocates one descriptor set, for the font texture.
     vk::DescriptorPoolSize size{vk::DescriptorType::eCombinedImageSampler, 4};
-    pool_ = vk::raii::DescriptorPool(ctx.device, vk::DescriptorPoolCreateInfo{
-                                                     .flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
-                                                     .maxSets = 4, .poolSizeCount = 1, .pPoolSizes = &size});
+    pool_ = vk::raii::DescriptorPool(
+        ctx.device, vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
+                                                 .maxSets = 4,
+                                                 .poolSizeCount = 1,
+                                                 .pPoolSizes = &size});
     IMGUI_CHECKVERSION();
     ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
@@ -41,8 +43,7 @@ ImGuiLayer::ImGuiLayer(VulkanContext& ctx, GLFWwindow* window, Presenter& presen
     info.ImageCount = std::max(presenter.imageCount(), presenter.minImageCount());
     info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
     info.CheckVkResultFn = checkVk;
-    if (!ImGui_ImplVulkan_Init(&info, presenter.renderPass()))
-        throw std::runtime_error("ImGui_ImplVulkan_Init failed");
+    if (!ImGui_ImplVulkan_Init(&info, presenter.renderPass())) throw std::runtime_error("ImGui_ImplVulkan_Init failed");
     presenter.immediate([](vk::raii::CommandBuffer& cmd) { ImGui_ImplVulkan_CreateFontsTexture(*cmd); });
     ImGui_ImplVulkan_DestroyFontUploadObjects();
 }

@@ -5,13 +5,13 @@
 // progressive renderer's uniform updates simple and its frame times honest.
 #pragma once
 
+#include <cstdint>
+#include <vector>
+
 #include "device_types.h"
 #include "vk/buffer.h"
 #include "vk/compute_pipeline.h"
 #include "vk/context.h"
-
-#include <cstdint>
-#include <vector>
 
 struct GLFWwindow;
 struct ImDrawData;
@@ -57,7 +57,9 @@ public:
     uint32_t minImageCount() const { return minImageCount_; }
     // Runs `record` on a one-time command buffer and waits (font upload).
     template <typename F>
-    void immediate(F&& record) { ctx_.submitAndWait(std::forward<F>(record)); }
+    void immediate(F&& record) {
+        ctx_.submitAndWait(std::forward<F>(record));
+    }
 
 private:
     void createSwapchain();

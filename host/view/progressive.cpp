@@ -12,8 +12,11 @@ constexpr uint64_t kInitialBudget = 1u << 12;
 }  // namespace
 
 Progressive::Progressive(int width, int height, uint32_t targetSamples, double targetFrameSeconds)
-    : width_(width), height_(height), target_(std::max(targetSamples, 1u)),
-      targetSeconds_(targetFrameSeconds), budget_(kInitialBudget) {}
+    : width_(width),
+      height_(height),
+      target_(std::max(targetSamples, 1u)),
+      targetSeconds_(targetFrameSeconds),
+      budget_(kInitialBudget) {}
 
 void Progressive::restart() {
     pass_ = 0;
@@ -34,7 +37,8 @@ uint64_t Progressive::record(const Renderer& renderer, const vk::raii::CommandBu
         uint64_t rowsPaid = (budget_ - recorded) / uint64_t(width_);
         uint32_t rows = uint32_t(std::max<uint64_t>(rowsPaid / kRowStep * kRowStep, kRowStep));
         rows = std::min(rows, uint32_t(height_) - nextRow_);
-        renderer.recordTile(cmd, {.tile = glm::uvec4(0, nextRow_, width_, rows), .samples = glm::uvec4(pass_, 1, 0, 0)});
+        renderer.recordTile(cmd,
+                            {.tile = glm::uvec4(0, nextRow_, width_, rows), .samples = glm::uvec4(pass_, 1, 0, 0)});
         recorded += uint64_t(width_) * rows;
         nextRow_ += rows;
         if (nextRow_ == uint32_t(height_)) {

@@ -1,15 +1,14 @@
 // Progressive accumulation for the live window: the sample budget of a
 // render is split across frames. A pass adds sample s to every pixel, in
 // bands of whole rows; a frame records as many rows as its budget of camera
-// samples allows (a pass may span frames, a frame may finish several passes), and the budget follows the measured frame time so that a
-// frame stays near the target (well under 100 ms) on any device. Each
-// dispatch traces exactly one sample index, so after S passes the sums are
-// the ones `whitted render --spp S` produces, added in the same order.
+// samples allows (a pass may span frames, a frame may finish several passes), and the budget follows the measured frame
+// time so that a frame stays near the target (well under 100 ms) on any device. Each dispatch traces exactly one sample
+// index, so after S passes the sums are the ones `whitted render --spp S` produces, added in the same order.
 #pragma once
 
-#include "render/renderer.h"
-
 #include <cstdint>
+
+#include "render/renderer.h"
 
 namespace whitted {
 
@@ -38,9 +37,9 @@ private:
     int width_, height_;
     uint32_t target_;
     double targetSeconds_;
-    uint64_t budget_;        // camera samples per frame
-    uint32_t pass_ = 0;      // sample index of the pass in progress
-    uint32_t nextRow_ = 0;   // first row of the pass not yet dispatched
+    uint64_t budget_;       // camera samples per frame
+    uint32_t pass_ = 0;     // sample index of the pass in progress
+    uint32_t nextRow_ = 0;  // first row of the pass not yet dispatched
     bool clear_ = true;
 };
 

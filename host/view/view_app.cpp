@@ -45,7 +45,8 @@ struct LayerView {
 std::vector<LayerView> layerViews(int width, int height) {
     glm::uvec4 size(width, height, 0, 0);
     auto make = [&](const char* name, uint32_t kind, uint32_t layer, uint32_t channel, float scale) {
-        return LayerView{name, {.view = glm::uvec4(kind, layer, channel, 0), .size = size, .scale = glm::vec4(scale, 1, 0, 0)}};
+        return LayerView{
+            name, {.view = glm::uvec4(kind, layer, channel, 0), .size = size, .scale = glm::vec4(scale, 1, 0, 0)}};
     };
     return {make("color", gpu::kDisplayColor, gpu::kAovColor, 0, 1),
             make("ambient", gpu::kDisplayColor, gpu::kAovAmbient, 0, 1),
@@ -83,9 +84,12 @@ int keyByName(const std::string& name) {
 class ViewApp final : public InputSink {
 public:
     ViewApp(const ViewOptions& options, Scene scene, std::vector<ScriptCommand> script)
-        : options_(options), scene_(std::move(scene)), script_(std::move(script)),
+        : options_(options),
+          scene_(std::move(scene)),
+          script_(std::move(script)),
           window_(windowSize(options, scene_).x * windowScale(options, scene_),
-                  windowSize(options, scene_).y * windowScale(options, scene_), "whitted view - " + options.scene.string()),
+                  windowSize(options, scene_).y * windowScale(options, scene_),
+                  "whitted view - " + options.scene.string()),
           ctx_(contextOptions(options)),
           renderer_(ctx_, scene_, rendererSettings(options)),
           presenter_(ctx_, window_.handle(), renderer_.outputBuffer(), renderer_.width(), renderer_.height()),
@@ -100,8 +104,8 @@ public:
         depthScale_ = float(sceneRadius(scene_));
         overlay_.device = ctx_.deviceInfo().name;
         log("opened " + options.scene.string() + " at " + std::to_string(renderer_.width()) + "x" +
-            std::to_string(renderer_.height()) + ", " + std::to_string(options.settings.samplesPerPixel) + " spp, device " +
-            ctx_.deviceInfo().name);
+            std::to_string(renderer_.height()) + ", " + std::to_string(options.settings.samplesPerPixel) +
+            " spp, device " + ctx_.deviceInfo().name);
     }
 
     int run();
@@ -206,8 +210,8 @@ private:
     size_t scriptNext_ = 0;
     Clock::time_point waitStart_ = Clock::now();
     long waitFrames_ = -1;
-    long reloadCount_ = 0;               // file changes seen, loaded or refused
-    std::optional<long> reloadMark_;     // what `reload` waits to exceed
+    long reloadCount_ = 0;            // file changes seen, loaded or refused
+    std::optional<long> reloadMark_;  // what `reload` waits to exceed
     std::optional<std::pair<int, Clock::time_point>> scriptHold_;
     std::vector<std::pair<std::filesystem::path, bool>> pendingShots_;  // path, whole window
     bool quit_ = false;
@@ -223,33 +227,52 @@ void ViewApp::onKey(int key, int action, int mods) {
     if (action == GLFW_PRESS) heldKeys_.insert(key);
     if (action != GLFW_PRESS) return;
     switch (key) {
-        case GLFW_KEY_ESCAPE: quit_ = true; break;
-        case GLFW_KEY_R: camera_.reset(); break;
+        case GLFW_KEY_ESCAPE:
+            quit_ = true;
+            break;
+        case GLFW_KEY_R:
+            camera_.reset();
+            break;
         case GLFW_KEY_L:
-            layer_ = (mods & GLFW_MOD_SHIFT) ? (layer_ + layers_.size() - 1) % layers_.size() : (layer_ + 1) % layers_.size();
+            layer_ = (mods & GLFW_MOD_SHIFT) ? (layer_ + layers_.size() - 1) % layers_.size()
+                                             : (layer_ + 1) % layers_.size();
             log("showing " + layers_[layer_].name);
             break;
-        case GLFW_KEY_0: layer_ = 0; log("showing color"); break;
-        case GLFW_KEY_C: std::printf("%s", cameraXml(camera_.camera()).c_str()); std::fflush(stdout); break;
-        case GLFW_KEY_P: guarded([&] { saveImages(); }); break;
-        case GLFW_KEY_F1: editor_.visible = !editor_.visible; break;
+        case GLFW_KEY_0:
+            layer_ = 0;
+            log("showing color");
+            break;
+        case GLFW_KEY_C:
+            std::printf("%s", cameraXml(camera_.camera()).c_str());
+            std::fflush(stdout);
+            break;
+        case GLFW_KEY_P:
+            guarded([&] { saveImages(); });
+            break;
+        case GLFW_KEY_F1:
+            editor_.visible = !editor_.visible;
+            break;
         case GLFW_KEY_S:
             if (mods & GLFW_MOD_CONTROL) guarded([&] { saveScene(); });
             break;
-        default: break;
+        default:
+            break;
     }
 }
 
 void ViewApp::onMouseButton(int button, int action, double x, double y) {
     cursor_ = {x, y};
-    if (action == GLFW_PRESS && dragButton_ < 0) dragButton_ = button;
-    else if (action == GLFW_RELEASE && button == dragButton_) dragButton_ = -1;
+    if (action == GLFW_PRESS && dragButton_ < 0)
+        dragButton_ = button;
+    else if (action == GLFW_RELEASE && button == dragButton_)
+        dragButton_ = -1;
 }
 
 void ViewApp::onCursor(double x, double y) {
     glm::dvec2 d = glm::dvec2(x, y) - cursor_;
     cursor_ = {x, y};
-    if (dragButton_ == GLFW_MOUSE_BUTTON_LEFT) camera_.orbit(d.x, d.y);
+    if (dragButton_ == GLFW_MOUSE_BUTTON_LEFT)
+        camera_.orbit(d.x, d.y);
     else if (dragButton_ == GLFW_MOUSE_BUTTON_RIGHT || dragButton_ == GLFW_MOUSE_BUTTON_MIDDLE) {
         int w = 0, h = 0;
         glfwGetWindowSize(window_.handle(), &w, &h);
@@ -275,9 +298,9 @@ void ViewApp::checkReload() {
     ++reloadCount_;
     try {
         Scene fresh = loadSceneFromString(*text, options_.scene);
-        bool cameraChanged = fresh.camera.eye != scene_.camera.eye || fresh.camera.windowCenter != scene_.camera.windowCenter ||
-                             fresh.camera.up != scene_.camera.up ||
-                             fresh.camera.verticalFovDegrees != scene_.camera.verticalFovDegrees;
+        bool cameraChanged =
+            fresh.camera.eye != scene_.camera.eye || fresh.camera.windowCenter != scene_.camera.windowCenter ||
+            fresh.camera.up != scene_.camera.up || fresh.camera.verticalFovDegrees != scene_.camera.verticalFovDegrees;
         scene_ = std::move(fresh);
         if (cameraChanged) camera_.setHome(scene_.camera, sceneRadius(scene_));
         depthScale_ = float(sceneRadius(scene_));
@@ -298,15 +321,20 @@ void ViewApp::saveImages() {
     std::vector<std::string> aovs = parseAovList("all");
     std::filesystem::path staging = beginHistoryFolder(options_.historyRoot);
     try {
-        std::vector<std::filesystem::path> files = writeRenderImages(result, staging / "image.png", aovs, Tonemap::Clamp);
+        std::vector<std::filesystem::path> files =
+            writeRenderImages(result, staging / "image.png", aovs, Tonemap::Clamp);
         Scene shown = scene_;
         shown.camera = camera_.camera();
         writeSceneFile(shown, staging / "scene.xml");
         files.push_back(staging / "scene.xml");
         RenderSettings settings = renderer_.settings();
         settings.samplesPerPixel = result.samplesPerPixel;
-        RenderRecord record{.scenePath = options_.scene, .settings = settings, .tonemap = "clamp",
-                            .device = ctx_.deviceInfo(), .result = &result, .files = files};
+        RenderRecord record{.scenePath = options_.scene,
+                            .settings = settings,
+                            .tonemap = "clamp",
+                            .device = ctx_.deviceInfo(),
+                            .result = &result,
+                            .files = files};
         writeTextFile(staging / "render.json", renderRecordJson(record));
     } catch (...) {
         std::filesystem::remove_all(staging);
@@ -391,18 +419,20 @@ bool ViewApp::stepScript() {
             if (std::chrono::duration<double>(Clock::now() - scriptHold_->second).count() < seconds) return true;
             onKey(key, GLFW_RELEASE, 0);
             scriptHold_.reset();
-        // Immediate commands.
+            // Immediate commands.
         } else if (c.name == "key") {
             int key = keyByName(c.args[0]);
             if (key == GLFW_KEY_UNKNOWN) return fail("unknown key '" + c.args[0] + "'");
             onKey(key, GLFW_PRESS, 0);
             onKey(key, GLFW_RELEASE, 0);
         } else if (c.name == "drag") {
-            static const std::map<std::string, int> buttons = {
-                {"left", GLFW_MOUSE_BUTTON_LEFT}, {"right", GLFW_MOUSE_BUTTON_RIGHT}, {"middle", GLFW_MOUSE_BUTTON_MIDDLE}};
+            static const std::map<std::string, int> buttons = {{"left", GLFW_MOUSE_BUTTON_LEFT},
+                                                               {"right", GLFW_MOUSE_BUTTON_RIGHT},
+                                                               {"middle", GLFW_MOUSE_BUTTON_MIDDLE}};
             double dx = 0, dy = 0;
             auto b = buttons.find(c.args[0]);
-            if (b == buttons.end() || !number(c.args[1], dx) || !number(c.args[2], dy)) return fail("drag left|right|middle DX DY");
+            if (b == buttons.end() || !number(c.args[1], dx) || !number(c.args[2], dy))
+                return fail("drag left|right|middle DX DY");
             glm::dvec2 start = cursor_;
             onMouseButton(b->second, GLFW_PRESS, start.x, start.y);
             onCursor(start.x + dx, start.y + dy);
@@ -431,11 +461,13 @@ bool ViewApp::stepScript() {
             uploadScene("edited object " + c.args[0]);
         } else if (c.name == "select") {
             double index = 0;
-            if ((c.args[0] != "light" && c.args[0] != "object") || !number(c.args[1], index)) return fail("select light|object N");
+            if ((c.args[0] != "light" && c.args[0] != "object") || !number(c.args[1], index))
+                return fail("select light|object N");
             editor_.selectedLight = c.args[0] == "light" ? int(index) : -1;
             editor_.selectedObject = c.args[0] == "object" ? int(index) : -1;
         } else if (c.name == "layer") {
-            auto it = std::find_if(layers_.begin(), layers_.end(), [&](const LayerView& l) { return l.name == c.args[0]; });
+            auto it =
+                std::find_if(layers_.begin(), layers_.end(), [&](const LayerView& l) { return l.name == c.args[0]; });
             if (it == layers_.end()) return fail("unknown layer '" + c.args[0] + "'");
             layer_ = size_t(it - layers_.begin());
         } else if (c.name == "screenshot" || c.name == "window_screenshot") {
@@ -470,8 +502,10 @@ int ViewApp::run() {
     while (!quit_ && !window_.shouldClose()) {
         bool idle = progressive_.done() && scriptNext_ >= script_.size() && heldKeys_.empty() && dragButton_ < 0 &&
                     options_.frames == 0;
-        if (idle) glfwWaitEventsTimeout(0.05);  // nothing to trace: don't spin the CPU
-        else glfwPollEvents();
+        if (idle)
+            glfwWaitEventsTimeout(0.05);  // nothing to trace: don't spin the CPU
+        else
+            glfwPollEvents();
         auto now = Clock::now();
         double dt = std::chrono::duration<double>(now - last).count();
         last = now;
@@ -532,7 +566,8 @@ int ViewApp::run() {
         double frameSeconds = traceSeconds + presentSeconds;
         smoothedMs = smoothedMs == 0 ? frameSeconds * 1e3 : 0.9 * smoothedMs + 0.1 * frameSeconds * 1e3;
         if (recorded > 0) {
-            smoothedRays = smoothedRays == 0 ? frameRays / traceSeconds : 0.9 * smoothedRays + 0.1 * frameRays / traceSeconds;
+            smoothedRays =
+                smoothedRays == 0 ? frameRays / traceSeconds : 0.9 * smoothedRays + 0.1 * frameRays / traceSeconds;
             tracedFrames++;
             traceTotal += traceSeconds;
             frameTotal += frameSeconds;
@@ -548,8 +583,8 @@ int ViewApp::run() {
     std::snprintf(timing, sizeof timing, "; frames that traced: %ld, mean %.1f ms (tracing %.1f ms), longest %.1f ms",
                   tracedFrames, tracedFrames ? 1e3 * frameTotal / tracedFrames : 0.0,
                   tracedFrames ? 1e3 * traceTotal / tracedFrames : 0.0, 1e3 * frameMax);
-    log("closed after " + std::to_string(frame_) + " frames, " + std::to_string(progressive_.completedSamples()) + " spp" +
-        timing);
+    log("closed after " + std::to_string(frame_) + " frames, " + std::to_string(progressive_.completedSamples()) +
+        " spp" + timing);
     return status_;
 }
 

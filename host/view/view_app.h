@@ -4,14 +4,14 @@
 // and keyboard, and the scene file reloaded when it changes on disk.
 #pragma once
 
-#include "render/render_settings.h"
-#include "scene/scene.h"
-#include "view/view_script.h"
-
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "render/render_settings.h"
+#include "scene/scene.h"
+#include "view/view_script.h"
 
 namespace whitted {
 
@@ -20,7 +20,7 @@ struct ViewOptions {
     RenderSettings settings;  // samplesPerPixel = the sample budget; auxiliary always on
     std::string device;
     bool validation = false;
-    int frames = 0;  // stop after this many frames; 0 = until the window closes
+    int frames = 0;                                   // stop after this many frames; 0 = until the window closes
     std::optional<std::filesystem::path> screenshot;  // written when the window closes
     std::optional<std::filesystem::path> script;
     std::filesystem::path historyRoot = "renders";

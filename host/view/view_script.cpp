@@ -8,10 +8,23 @@
 namespace whitted {
 
 std::vector<ScriptCommand> loadScript(const std::filesystem::path& path) {
-    static const std::map<std::string, size_t> kArity = {
-        {"frames", 1}, {"spp", 1}, {"reload", 0}, {"key", 1}, {"hold", 2}, {"drag", 3}, {"scroll", 1},
-        {"copy", 2}, {"replace", 3}, {"edit", 3}, {"layer", 1}, {"screenshot", 1}, {"window_screenshot", 1},
-        {"save_images", 0}, {"save_scene", 0}, {"select", 2}, {"quit", 0}};
+    static const std::map<std::string, size_t> kArity = {{"frames", 1},
+                                                         {"spp", 1},
+                                                         {"reload", 0},
+                                                         {"key", 1},
+                                                         {"hold", 2},
+                                                         {"drag", 3},
+                                                         {"scroll", 1},
+                                                         {"copy", 2},
+                                                         {"replace", 3},
+                                                         {"edit", 3},
+                                                         {"layer", 1},
+                                                         {"screenshot", 1},
+                                                         {"window_screenshot", 1},
+                                                         {"save_images", 0},
+                                                         {"save_scene", 0},
+                                                         {"select", 2},
+                                                         {"quit", 0}};
     std::ifstream in(path);
     if (!in) throw std::invalid_argument(path.string() + ": cannot read the script");
     std::vector<ScriptCommand> commands;

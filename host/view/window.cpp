@@ -16,7 +16,9 @@ std::string glfwError() {
     return code == GLFW_NO_ERROR ? "no error reported" : std::string(description ? description : "unknown error");
 }
 
-Window* owner(GLFWwindow* w) { return static_cast<Window*>(glfwGetWindowUserPointer(w)); }
+Window* owner(GLFWwindow* w) {
+    return static_cast<Window*>(glfwGetWindowUserPointer(w));
+}
 
 }  // namespace
 
@@ -49,8 +51,12 @@ Window::~Window() {
     glfwTerminate();
 }
 
-bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }
-void Window::setTitle(const std::string& title) { glfwSetWindowTitle(window_, title.c_str()); }
+bool Window::shouldClose() const {
+    return glfwWindowShouldClose(window_);
+}
+void Window::setTitle(const std::string& title) {
+    glfwSetWindowTitle(window_, title.c_str());
+}
 
 std::vector<std::string> Window::requiredInstanceExtensions() {
     uint32_t count = 0;
