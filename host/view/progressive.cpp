@@ -8,6 +8,7 @@ namespace {
 constexpr uint32_t kRowStep = gpu::kWorkgroupSize;  // rows of one work group
 constexpr uint64_t kMinBudget = 1024;
 constexpr uint64_t kInitialBudget = 1u << 12;
+constexpr uint32_t kMaxPassSamples = 8;
 
 }  // namespace
 
@@ -31,19 +32,32 @@ uint64_t Progressive::record(const Renderer& renderer, const vk::raii::CommandBu
     }
     uint64_t recorded = 0;
     while (!done() && recorded < budget_) {
+        // Pass sizes 1, 1, 2, 4, 8, 8, ... samples: the first passes give a
+        // whole picture soon; later ones trace several samples per
+        // invocation, which saves re-reading and re-writing the nine output
+        // layers once per sample (the window's throughput then nears
+        // render's).
+        // Chosen at the start of a pass and kept for all its rows; never
+        // so many that one band of rows would overrun the budget.
+        if (nextRow_ == 0) {
+            uint64_t affordable = std::max<uint64_t>(budget_ / (uint64_t(width_) * kRowStep), 1);
+            passSamples_ =
+                uint32_t(std::min<uint64_t>({std::max(pass_, 1u), kMaxPassSamples, target_ - pass_, affordable}));
+        }
+        uint32_t samples = passSamples_;
         // A band of whole rows, as many as the budget pays for (whole
         // work groups of rows, at least one): lavapipe pays several
         // milliseconds per dispatch, so few wide dispatches beat many tiles.
-        uint64_t rowsPaid = (budget_ - recorded) / uint64_t(width_);
+        uint64_t rowsPaid = (budget_ - recorded) / (uint64_t(width_) * samples);
         uint32_t rows = uint32_t(std::max<uint64_t>(rowsPaid / kRowStep * kRowStep, kRowStep));
         rows = std::min(rows, uint32_t(height_) - nextRow_);
-        renderer.recordTile(cmd,
-                            {.tile = glm::uvec4(0, nextRow_, width_, rows), .samples = glm::uvec4(pass_, 1, 0, 0)});
-        recorded += uint64_t(width_) * rows;
+        renderer.recordTile(
+            cmd, {.tile = glm::uvec4(0, nextRow_, width_, rows), .samples = glm::uvec4(pass_, samples, 0, 0)});
+        recorded += uint64_t(width_) * rows * samples;
         nextRow_ += rows;
         if (nextRow_ == uint32_t(height_)) {
             nextRow_ = 0;
-            ++pass_;
+            pass_ += samples;
         }
     }
     return recorded;

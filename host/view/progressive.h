@@ -1,9 +1,12 @@
 // Progressive accumulation for the live window: the sample budget of a
-// render is split across frames. A pass adds sample s to every pixel, in
-// bands of whole rows; a frame records as many rows as its budget of camera
-// samples allows (a pass may span frames, a frame may finish several passes), and the budget follows the measured frame
-// time so that a frame stays near the target (well under 100 ms) on any device. Each dispatch traces exactly one sample
-// index, so after S passes the sums are the ones `whitted render --spp S` produces, added in the same order.
+// render is split across frames. A pass adds the next samples (1, 1, 2, 4,
+// then 8 at a time) to every pixel, in bands of whole rows; a frame records
+// as many rows as its budget of camera samples allows (a pass may span
+// frames, a frame may finish several passes), and the budget follows the
+// measured tracing time so that a frame stays near its target (well under
+// 100 ms) on any device. Sample indices are global, so after S samples the
+// sums hold the samples `whitted render --spp S` traces; only the grouping
+// of the float additions differs.
 #pragma once
 
 #include <cstdint>
@@ -37,9 +40,10 @@ private:
     int width_, height_;
     uint32_t target_;
     double targetSeconds_;
-    uint64_t budget_;       // camera samples per frame
-    uint32_t pass_ = 0;     // sample index of the pass in progress
-    uint32_t nextRow_ = 0;  // first row of the pass not yet dispatched
+    uint64_t budget_;           // camera samples per frame
+    uint32_t pass_ = 0;         // first sample index of the pass in progress
+    uint32_t passSamples_ = 1;  // samples the pass in progress adds
+    uint32_t nextRow_ = 0;      // first row of the pass not yet dispatched
     bool clear_ = true;
 };
 
