@@ -1,6 +1,7 @@
 // whitted: command line. Parses arguments and hands over to host/app.
 #include "app/commands.h"
 #include "device_types.h"
+#include "view/view_app.h"
 
 #include <CLI/CLI.hpp>
 
@@ -41,6 +42,24 @@ int main(int argc, char** argv) {
 
     app.add_subcommand("devices", "list the Vulkan devices");
 
+    ViewOptions view;
+    view.settings.samplesPerPixel = 256;
+    auto* viewCmd = app.add_subcommand("view", "open a scene in a live window (README \"Live window\")");
+    viewCmd->add_option("scene", view.scene, "scene XML file")->required();
+    viewCmd->add_option("--width", view.settings.width, "image width in pixels [scene's]")->check(CLI::Range(1, 16384));
+    viewCmd->add_option("--height", view.settings.height, "image height in pixels [scene's]")->check(CLI::Range(1, 16384));
+    viewCmd->add_option("--spp", view.settings.samplesPerPixel, "sample budget per pixel; tracing stops there")
+        ->check(CLI::Range(1, 65536))->capture_default_str();
+    viewCmd->add_option("--max-depth", view.settings.maxDepth, "secondary bounces")
+        ->check(CLI::Range(0, int(gpu::kMaxDepthLimit)))->capture_default_str();
+    viewCmd->add_option("--frames", view.frames, "close after N frames [until the window is closed]")->check(CLI::NonNegativeNumber);
+    viewCmd->add_option("--screenshot", view.screenshot, "write the image shown as PNG when closing");
+    viewCmd->add_option("--script", view.script, "timed input commands (see host/view/view_script.h)");
+    viewCmd->add_option("--frame-ms", view.targetFrameMs, "target milliseconds per frame")
+        ->check(CLI::Range(5.0, 1000.0))->capture_default_str();
+    viewCmd->add_option("--device", view.device, "Vulkan device index or name substring [best available]");
+    viewCmd->add_flag("--validate", view.validation, "enable the Khronos validation layer; fail on any message");
+
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
@@ -56,6 +75,10 @@ int main(int argc, char** argv) {
             if (const char* v = std::getenv("WHITTED_VALIDATION"); v && *v && std::string(v) != "0")
                 render.validation = true;
             return runRenderCommand(render);
+        }
+        if (viewCmd->parsed()) {
+            if (const char* v = std::getenv("WHITTED_VALIDATION"); v && *v && std::string(v) != "0") view.validation = true;
+            return runViewCommand(view);
         }
         return runDevicesCommand();
     } catch (const std::exception& e) {

@@ -132,6 +132,24 @@ struct RayCounters {
     uint pad;
 };
 
+// ---- The live window (whitted view, shaders/display.comp) ----
+// Bindings of the display pass: the renderer's output sums in, packed RGBA8 out.
+WHITTED_CONST uint kBindingDisplayInput = 0;   // vec4[] sums, as kBindingOutput
+WHITTED_CONST uint kBindingDisplayOutput = 1;  // uint[width * height], RGBA8
+
+// What the display pass shows (DisplayParams.view.x), like io/aov_output.
+WHITTED_CONST uint kDisplayColor = 0;   // a colour layer: mean, clamp, sRGB
+WHITTED_CONST uint kDisplayScalar = 1;  // one channel's mean times scale.x
+WHITTED_CONST uint kDisplayDepth = 2;   // m / (m + d), m = scale.y
+WHITTED_CONST uint kDisplayNormal = 3;  // n / 2 + 0.5
+
+// Push constants of the display pass.
+struct DisplayParams {
+    uvec4 view;   // kind, layer, channel, 0
+    uvec4 size;   // width, height, 0, 0
+    vec4 scale;   // scalar scale, depth median, 0, 0
+};
+
 #ifdef __cplusplus
 }  // namespace whitted::gpu
 #endif

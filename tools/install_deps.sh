@@ -12,6 +12,7 @@ packages=(
   povray xvfb xauth
   clang-14 libfuzzer-14-dev libclang-rt-14-dev
   libassimp-dev
+  libimgui-dev xdotool
 )
 
 missing=()

@@ -31,4 +31,7 @@ struct RenderCommandOptions {
 int runRenderCommand(const RenderCommandOptions& options);
 int runDevicesCommand();
 
+struct ViewOptions;  // view/view_app.h
+int runViewCommand(const ViewOptions& options);
+
 }  // namespace whitted

@@ -71,18 +71,10 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
         vk::DescriptorType::eStorageBuffer};
     pipeline_ = createComputePipeline(ctx, kWhittedCompSpv, bindingTypes, sizeof(gpu::TileParams));
 
-    // Scene upload.
     auto hostVisible = vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent;
     params_ = createBuffer(ctx, sizeof(gpu::FrameParams), vk::BufferUsageFlagBits::eUniformBuffer, hostVisible);
-    std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
-    primitives_ = createDeviceBuffer(ctx, scene_.primitives.data(), primitiveSize, kStorage);
-    materials_ = createDeviceBuffer(ctx, scene_.materials.data(), scene_.materials.size() * sizeof(gpu::Material), kStorage);
-    lights_ = createDeviceBuffer(ctx, scene_.lights.data(), scene_.lights.size() * sizeof(gpu::Light), kStorage);
     output_ = createDeviceBuffer(ctx, nullptr, outputSize, kStorage | vk::BufferUsageFlagBits::eTransferSrc);
     counters_ = createBuffer(ctx, sizeof(gpu::RayCounters), kStorage, hostVisible);
-    bvhNodes_ = createDeviceBuffer(ctx, scene_.bvhNodes.data(), scene_.bvhNodes.size() * sizeof(gpu::BvhNode), kStorage);
-
-    // One descriptor set for the whole render.
     vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1}, {vk::DescriptorType::eStorageBuffer, 6}};
     descriptorPool_ = vk::raii::DescriptorPool(
         ctx.device, vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
@@ -90,6 +82,21 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     vk::DescriptorSetLayout setLayout = *pipeline_.setLayout;
     descriptorSet_ = std::move(vk::raii::DescriptorSets(
         ctx.device, {.descriptorPool = *descriptorPool_, .descriptorSetCount = 1, .pSetLayouts = &setLayout}).front());
+    uploadScene();
+    uploadSeconds_ = secondsSince(start);
+}
+
+// Scene buffers and the one descriptor set that names them all.
+void Renderer::uploadScene() {
+    static constexpr vk::DescriptorType bindingTypes[] = {
+        vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
+        vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
+        vk::DescriptorType::eStorageBuffer};
+    std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
+    primitives_ = createDeviceBuffer(ctx_, scene_.primitives.data(), scene_.primitives.size() * sizeof(gpu::Primitive), kStorage);
+    materials_ = createDeviceBuffer(ctx_, scene_.materials.data(), scene_.materials.size() * sizeof(gpu::Material), kStorage);
+    lights_ = createDeviceBuffer(ctx_, scene_.lights.data(), scene_.lights.size() * sizeof(gpu::Light), kStorage);
+    bvhNodes_ = createDeviceBuffer(ctx_, scene_.bvhNodes.data(), scene_.bvhNodes.size() * sizeof(gpu::BvhNode), kStorage);
     const Buffer* buffers[] = {&params_, &primitives_, &materials_, &lights_, &output_, &counters_, &bvhNodes_};
     std::vector<vk::DescriptorBufferInfo> infos;
     for (const Buffer* b : buffers) infos.push_back({*b->buffer, 0, VK_WHOLE_SIZE});
@@ -97,8 +104,77 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     for (uint32_t i = 0; i < infos.size(); ++i)
         writes.push_back({.dstSet = *descriptorSet_, .dstBinding = i, .descriptorCount = 1,
                           .descriptorType = bindingTypes[i], .pBufferInfo = &infos[i]});
-    ctx.device.updateDescriptorSets(writes, nullptr);
-    uploadSeconds_ = secondsSince(start);
+    ctx_.device.updateDescriptorSets(writes, nullptr);
+}
+
+void Renderer::setScene(const Scene& scene) {
+    RenderSettings settings = settings_;
+    settings.width = scene_.width;  // the image size stays
+    settings.height = scene_.height;
+    GpuScene packed = packScene(scene, settings);
+    if (packed.primitives.size() * sizeof(gpu::Primitive) >
+        ctx_.physicalDevice.getProperties().limits.maxStorageBufferRange)
+        throw std::runtime_error("the scene's " + std::to_string(packed.primitives.size()) +
+                                 " primitives exceed this device's storage buffer limit");
+    scene_ = std::move(packed);
+    uploadScene();
+}
+
+void Renderer::setCamera(const Camera& camera) {
+    Scene cameraOnly;
+    cameraOnly.camera = camera;
+    RenderSettings settings = settings_;
+    settings.width = scene_.width;
+    settings.height = scene_.height;
+    gpu::FrameParams fresh = packScene(cameraOnly, settings).params;
+    scene_.params.eye = fresh.eye;
+    scene_.params.forward = fresh.forward;
+    scene_.params.right = fresh.right;
+    scene_.params.up = fresh.up;
+    std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
+}
+
+void Renderer::recordClear(const vk::raii::CommandBuffer& cmd) const {
+    vk::MemoryBarrier before{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eShaderRead,
+                             .dstAccessMask = vk::AccessFlagBits::eTransferWrite};
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eTransfer, {}, before,
+                        nullptr, nullptr);
+    cmd.fillBuffer(*output_.buffer, 0, VK_WHOLE_SIZE, 0);
+}
+
+void Renderer::recordTile(const vk::raii::CommandBuffer& cmd, const gpu::TileParams& tile) const {
+    vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
+                                 .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
+                        vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
+    cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_.pipeline);
+    cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipeline_.layout, 0, *descriptorSet_, nullptr);
+    cmd.pushConstants<gpu::TileParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, tile);
+    cmd.dispatch((tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
+                 (tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1);
+}
+
+RenderResult Renderer::readMeans() const {
+    RenderResult result;
+    result.width = scene_.width;
+    result.height = scene_.height;
+    result.hasAuxiliary = settings_.auxiliary;
+    size_t pixels = size_t(scene_.width) * scene_.height;
+    std::vector<float> raw(pixels * 4 * layerCount_);
+    readBuffer(ctx_, output_, raw.data(), raw.size() * sizeof(float));
+    uint32_t minimum = UINT32_MAX;
+    for (size_t i = 0; i < pixels; ++i) minimum = std::min(minimum, uint32_t(raw[i * 4 + 3]));
+    result.samplesPerPixel = int(minimum);
+    for (uint32_t layer = 0; layer < layerCount_; ++layer) {
+        auto& out = result.layers[layer];
+        out.assign(raw.begin() + layer * pixels * 4, raw.begin() + (layer + 1) * pixels * 4);
+        for (size_t i = 0; i < pixels; ++i) {
+            float count = raw[i * 4 + 3];
+            for (int c = 0; c < 4; ++c) out[i * 4 + c] = count > 0 ? out[i * 4 + c] / count : 0.0f;
+        }
+    }
+    result.bvh = scene_.bvhStats;
+    return result;
 }
 
 // Tiles of kTileSize^2 pixels; each tile's samples are split into chunks so

@@ -42,12 +42,32 @@ public:
     Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings& settings);
     RenderResult render(const ProgressCallback& progress = {});
 
+    // Progressive use (`whitted view`): the output buffer keeps its sums
+    // between calls and the caller records the dispatches into its own
+    // command buffers. The device must be idle when the scene is replaced.
+    void setScene(const Scene& scene);     // re-pack and re-upload everything but the pipeline
+    void setCamera(const Camera& camera);  // rewrites the camera in the uniform block only
+    void recordClear(const vk::raii::CommandBuffer& cmd) const;  // zero the sums
+    // One dispatch over `tile` (pixels x0, y0, width, height) with samples
+    // [first, first + count) of samplesPerPixel, after a barrier on earlier ones.
+    void recordTile(const vk::raii::CommandBuffer& cmd, const gpu::TileParams& tile) const;
+    // Reads the sums back as means, each pixel divided by its own sample
+    // count (the w of the colour layer), so a partly finished pass reads right.
+    RenderResult readMeans() const;
+    const Buffer& outputBuffer() const { return output_; }
+    gpu::RayCounters& counters() const { return *static_cast<gpu::RayCounters*>(counters_.mapped); }
+    int width() const { return scene_.width; }
+    int height() const { return scene_.height; }
+    uint32_t layerCount() const { return layerCount_; }
+    const RenderSettings& settings() const { return settings_; }
+
 private:
     struct WorkItem {
         gpu::TileParams tile;
         uint64_t samples;  // pixels x samples, for progress
     };
     std::vector<WorkItem> planWork() const;
+    void uploadScene();
 
     VulkanContext& ctx_;
     RenderSettings settings_;

@@ -4,7 +4,6 @@
 #include <stdexcept>
 
 namespace whitted {
-namespace {
 
 // First memory type allowed by `typeBits` that has all of `required`,
 // preferring one that also has `preferred`.
@@ -22,8 +21,6 @@ uint32_t findMemoryType(const vk::raii::PhysicalDevice& physical, uint32_t typeB
     if (!fallback) throw std::runtime_error("no Vulkan memory type fits the buffer (" + vk::to_string(required) + ")");
     return *fallback;
 }
-
-}  // namespace
 
 Buffer createBuffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage,
                     vk::MemoryPropertyFlags properties) {

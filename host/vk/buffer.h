@@ -13,6 +13,11 @@ struct Buffer {
     void* mapped = nullptr;  // non-null for host-visible buffers
 };
 
+// First memory type allowed by `typeBits` that has all of `required`,
+// preferring one that also has `preferred`; throws if none.
+uint32_t findMemoryType(const vk::raii::PhysicalDevice& physical, uint32_t typeBits,
+                        vk::MemoryPropertyFlags required, vk::MemoryPropertyFlags preferred);
+
 // A buffer in memory with `properties`; host-visible memory is mapped.
 Buffer createBuffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage,
                     vk::MemoryPropertyFlags properties);

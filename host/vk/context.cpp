@@ -67,13 +67,15 @@ VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(VkDebugUtilsMessageSeverityFlagBits
     return VK_FALSE;
 }
 
-vk::raii::Instance createInstance(const vk::raii::Context& context, bool validation) {
+vk::raii::Instance createInstance(const vk::raii::Context& context, bool validation,
+                                  const std::vector<std::string>& extraExtensions = {}) {
     vk::ApplicationInfo app{.pApplicationName = "whitted",
                             .applicationVersion = VK_MAKE_VERSION(0, 1, 0),
                             .pEngineName = "whitted",
                             .apiVersion = VK_API_VERSION_1_2};
     std::vector<const char*> layers;
     std::vector<const char*> extensions;
+    for (const std::string& e : extraExtensions) extensions.push_back(e.c_str());
     if (validation) {
         auto available = context.enumerateInstanceLayerProperties();
         bool found = std::any_of(available.begin(), available.end(), [](const vk::LayerProperties& l) {
@@ -105,7 +107,7 @@ std::vector<DeviceInfo> VulkanContext::listDevices() {
 }
 
 VulkanContext::VulkanContext(const ContextOptions& options) {
-    instance = createInstance(context, options.validation);
+    instance = createInstance(context, options.validation, options.instanceExtensions);
     if (options.validation) {
         using Severity = vk::DebugUtilsMessageSeverityFlagBitsEXT;
         using Type = vk::DebugUtilsMessageTypeFlagBitsEXT;
@@ -154,9 +156,26 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     info_ = describe(physicalDevice, *chosen);
 
     queueFamily = *findComputeQueueFamily(physicalDevice);
+    std::vector<const char*> deviceExtensions;
+    if (options.canPresent) {
+        // One queue for tracing, blits and presentation.
+        auto families = physicalDevice.getQueueFamilyProperties();
+        auto wanted = vk::QueueFlagBits::eCompute | vk::QueueFlagBits::eGraphics;
+        std::optional<uint32_t> presenting;
+        for (uint32_t i = 0; i < families.size() && !presenting; ++i)
+            if ((families[i].queueFlags & wanted) == wanted &&
+                options.canPresent(*instance, *physicalDevice, i))
+                presenting = i;
+        if (!presenting)
+            throw std::runtime_error("device '" + info_.name + "' has no queue that computes, draws and presents to the window");
+        queueFamily = *presenting;
+        deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+    }
     float priority = 1.0f;
     vk::DeviceQueueCreateInfo queueInfo{.queueFamilyIndex = queueFamily, .queueCount = 1, .pQueuePriorities = &priority};
-    device = vk::raii::Device(physicalDevice, vk::DeviceCreateInfo{.queueCreateInfoCount = 1, .pQueueCreateInfos = &queueInfo});
+    device = vk::raii::Device(physicalDevice, vk::DeviceCreateInfo{.queueCreateInfoCount = 1, .pQueueCreateInfos = &queueInfo,
+                                                                   .enabledExtensionCount = uint32_t(deviceExtensions.size()),
+                                                                   .ppEnabledExtensionNames = deviceExtensions.data()});
     queue = vk::raii::Queue(device, queueFamily, 0);
     commandPool = vk::raii::CommandPool(device, vk::CommandPoolCreateInfo{
                                                     .flags = vk::CommandPoolCreateFlagBits::eResetCommandBuffer,

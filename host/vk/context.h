@@ -4,6 +4,7 @@
 #include <vulkan/vulkan_raii.hpp>
 
 #include <atomic>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +24,12 @@ struct DeviceInfo {
 struct ContextOptions {
     bool validation = false;        // enable VK_LAYER_KHRONOS_validation
     std::string deviceName;         // substring or index; empty = best
+    // Windowed use (`whitted view`): extra instance extensions (the window
+    // system's surface ones), VK_KHR_swapchain on the device, and a queue
+    // family that also does graphics (blits) and can present, as told by
+    // `canPresent`. Headless when `canPresent` is empty.
+    std::vector<std::string> instanceExtensions{};
+    std::function<bool(VkInstance, VkPhysicalDevice, uint32_t family)> canPresent{};
 };
 
 // Owns the Vulkan objects every renderer needs. Validation messages (when

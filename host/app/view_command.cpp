@@ -1,0 +1,41 @@
+// `whitted view`: checks the scene, the script and the screenshot folder
+// (bad input: FILE:LINE and exit status 2 before any window opens), then
+// hands over to the live window (host/view/view_app.h).
+#include <iostream>
+
+#include "app/commands.h"
+#include "scene/scene_loader.h"
+#include "view/view_app.h"
+
+namespace whitted {
+
+int runViewCommand(const ViewOptions& options) {
+    Scene scene;
+    try {
+        scene = loadScene(options.scene);
+    } catch (const SceneError& e) {
+        std::cerr << e.what() << "\n";
+        return kExitBadInput;
+    }
+    for (const std::string& warning : scene.warnings) std::cerr << "warning: " << warning << "\n";
+    std::vector<ScriptCommand> script;
+    if (options.script) {
+        try {
+            script = loadScript(*options.script);
+        } catch (const std::invalid_argument& e) {
+            std::cerr << e.what() << "\n";
+            return kExitBadInput;
+        }
+    }
+    if (options.screenshot) {
+        std::filesystem::path parent =
+            options.screenshot->parent_path().empty() ? "." : options.screenshot->parent_path();
+        if (!std::filesystem::is_directory(parent)) {
+            std::cerr << "whitted: screenshot folder " << parent.string() << " does not exist\n";
+            return kExitBadInput;
+        }
+    }
+    return runViewWindow(options, std::move(scene), std::move(script));
+}
+
+}  // namespace whitted

@@ -1,0 +1,223 @@
+#include "view/editor_panel.h"
+
+#include <imgui/imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <type_traits>
+#include <variant>
+
+namespace whitted {
+namespace {
+
+const char* shapeName(const Shape& s) {
+    static const char* kNames[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh"};
+    return kNames[s.index()];
+}
+
+// ImGui edits floats; the scene keeps doubles.
+bool editVector(const char* label, glm::dvec3& v, float speed) {
+    float f[3] = {float(v.x), float(v.y), float(v.z)};
+    if (!ImGui::DragFloat3(label, f, speed)) return false;
+    v = glm::dvec3(f[0], f[1], f[2]);
+    return true;
+}
+
+bool editColour(const char* label, glm::dvec3& c, bool hdr) {
+    float f[3] = {float(c.r), float(c.g), float(c.b)};
+    bool edited = hdr ? ImGui::ColorEdit3(label, f, ImGuiColorEditFlags_HDR | ImGuiColorEditFlags_Float)
+                      : ImGui::ColorEdit3(label, f);
+    if (!edited) return false;
+    for (int i = 0; i < 3; ++i) c[i] = std::clamp(double(f[i]), 0.0, hdr ? 1e6 : 1.0);
+    return true;
+}
+
+bool editScalar(const char* label, double& v, double lo, double hi) {
+    float f = float(v);
+    if (!ImGui::SliderFloat(label, &f, float(lo), float(hi))) return false;
+    v = std::clamp(double(f), lo, hi);
+    return true;
+}
+
+}  // namespace
+
+void drawOverlay(const OverlayInfo& info) {
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
+    ImGui::SetNextWindowBgAlpha(0.6f);
+    ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                             ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs;
+    if (ImGui::Begin("##overlay", nullptr, flags)) {
+        ImGui::Text("%u / %u spp   %.1f ms/frame   %.2f Mrays/s", info.samples, info.target, info.frameMs,
+                    info.raysPerSecond / 1e6);
+        ImGui::Text("%s   [%s]", info.device.c_str(), info.layer.c_str());
+        if (!info.status.empty()) ImGui::TextUnformatted(info.status.c_str());
+    }
+    ImGui::End();
+
+    // A refused reload: a red banner across the bottom until a good one.
+    if (!info.error.empty()) {
+        const ImGuiViewport* vp = ImGui::GetMainViewport();
+        ImGui::SetNextWindowPos(ImVec2(0, vp->Size.y), ImGuiCond_Always, ImVec2(0, 1));
+        ImGui::SetNextWindowSize(ImVec2(vp->Size.x, 0), ImGuiCond_Always);
+        ImGui::PushStyleColor(ImGuiCol_WindowBg, ImVec4(0.75f, 0.05f, 0.05f, 1.0f));
+        ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 1, 1, 1));
+        if (ImGui::Begin("##error", nullptr, flags)) {
+            ImGui::TextUnformatted("Scene not reloaded (showing the last good one):");
+            ImGui::TextWrapped("%s", info.error.c_str());
+        }
+        ImGui::End();
+        ImGui::PopStyleColor(2);
+    }
+}
+
+EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
+    EditorResult result;
+    if (!state.visible) return result;
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    // Anchored to the top right corner, sized to what it shows.
+    ImGui::SetNextWindowPos(ImVec2(vp->Size.x - 8, 8), ImGuiCond_Always, ImVec2(1, 0));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    if (!ImGui::Begin("Scene (F1 hides)", &state.visible, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::End();
+        return result;
+    }
+    if (ImGui::Button("Save")) result.saveRequested = true;
+    ImGui::SameLine();
+    ImGui::TextDisabled("writes the scene file");
+
+    if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen))
+        for (int i = 0; i < int(scene.lights.size()); ++i) {
+            char label[32];
+            std::snprintf(label, sizeof label, "light %d", i);
+            if (ImGui::Selectable(label, state.selectedLight == i)) {
+                state.selectedLight = i;
+                state.selectedObject = -1;
+            }
+        }
+    if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen))
+        for (int i = 0; i < int(scene.objects.size()); ++i) {
+            const Object& o = scene.objects[i];
+            char label[64];
+            std::snprintf(label, sizeof label, "%d: %s (line %d)", i, shapeName(o.shape), o.sourceLine);
+            if (ImGui::Selectable(label, state.selectedObject == i)) {
+                state.selectedObject = i;
+                state.selectedLight = -1;
+            }
+        }
+
+    ImGui::Separator();
+    if (state.selectedLight >= 0 && state.selectedLight < int(scene.lights.size())) {
+        PointLight& l = scene.lights[state.selectedLight];
+        ImGui::Text("light %d", state.selectedLight);
+        result.changed |= editVector("position", l.position, 0.02f);
+        result.changed |= editColour("colour", l.color, true);
+    } else if (state.selectedObject >= 0 && state.selectedObject < int(scene.objects.size())) {
+        Object& o = scene.objects[state.selectedObject];
+        Material& m = o.material;
+        ImGui::Text("object %d: %s", state.selectedObject, shapeName(o.shape));
+        glm::dvec3 p = shapeReferencePoint(o.shape);
+        if (editVector("position", p, 0.02f)) {
+            translateShape(o.shape, p - shapeReferencePoint(o.shape));
+            result.changed = true;
+        }
+        if (auto* sphere = std::get_if<Sphere>(&o.shape)) {
+            float r = float(sphere->radius);
+            if (ImGui::DragFloat("radius", &r, 0.01f, 1e-3f, 1e3f)) {
+                sphere->radius = std::max(double(r), 1e-3);
+                result.changed = true;
+            }
+        }
+        result.changed |= editColour("diffuse colour", m.diffuseColor, false);
+        result.changed |= editColour("specular colour", m.specularColor, false);
+        result.changed |= editScalar("ambient ka", m.ambient, 0, 1);
+        result.changed |= editScalar("diffuse kd", m.diffuse, 0, 1);
+        result.changed |= editScalar("specular ks", m.specular, 0, 1);
+        result.changed |= editScalar("shininess", m.shininess, 1, 1000);
+        result.changed |= editScalar("reflection kr", m.reflection, 0, 1);
+        result.changed |= editScalar("transmission kt", m.transmission, 0, 1);
+        result.changed |= editScalar("IOR (refraction_coef)", m.ior, 1, 3);
+    } else {
+        ImGui::TextDisabled("select a light or an object");
+    }
+    ImGui::End();
+    return result;
+}
+
+std::optional<std::string> setObjectField(Scene& scene, int object, const std::string& field, double value) {
+    if (object < 0 || object >= int(scene.objects.size()))
+        return "no object " + std::to_string(object) + " (the scene has " + std::to_string(scene.objects.size()) + ")";
+    if (!std::isfinite(value)) return "value is not finite";
+    Object& o = scene.objects[object];
+    Material& m = o.material;
+    auto unit = [&](double& target) -> std::optional<std::string> {
+        if (value < 0 || value > 1) return field + " must be in [0, 1]";
+        target = value;
+        return std::nullopt;
+    };
+    if (field == "ior") {
+        if (value < 0.1 || value > 10) return std::string("ior must be in [0.1, 10]");
+        m.ior = value;
+        return std::nullopt;
+    }
+    if (field == "kt") return unit(m.transmission);
+    if (field == "kr") return unit(m.reflection);
+    if (field == "ks") return unit(m.specular);
+    if (field == "kd") return unit(m.diffuse);
+    if (field == "ka") return unit(m.ambient);
+    int axis = field == "x" ? 0 : field == "y" ? 1 : field == "z" ? 2 : -1;
+    if (axis < 0) return "unknown field '" + field + "' (ior, kt, kr, ks, kd, ka, x, y, z)";
+    glm::dvec3 p = shapeReferencePoint(o.shape), target = p;
+    target[axis] = value;
+    translateShape(o.shape, target - p);
+    return std::nullopt;
+}
+
+void translateShape(Shape& shape, const glm::dvec3& d) {
+    std::visit(
+        [&](auto& s) {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, Sphere>)
+                s.center += d;
+            else if constexpr (std::is_same_v<T, Cylinder>)
+                s.base += d;
+            else if constexpr (std::is_same_v<T, Plane>)
+                s.point += d;
+            else if constexpr (std::is_same_v<T, Triangle>) {
+                s.v0 += d;
+                s.v1 += d;
+                s.v2 += d;
+            } else if constexpr (std::is_same_v<T, Box>) {
+                s.min += d;
+                s.max += d;
+            } else
+                for (Triangle& t : s.triangles) {
+                    t.v0 += d;
+                    t.v1 += d;
+                    t.v2 += d;
+                }
+        },
+        shape);
+}
+
+glm::dvec3 shapeReferencePoint(const Shape& shape) {
+    return std::visit(
+        [](const auto& s) -> glm::dvec3 {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, Sphere>)
+                return s.center;
+            else if constexpr (std::is_same_v<T, Cylinder>)
+                return s.base;
+            else if constexpr (std::is_same_v<T, Plane>)
+                return s.point;
+            else if constexpr (std::is_same_v<T, Triangle>)
+                return s.v0;
+            else if constexpr (std::is_same_v<T, Box>)
+                return s.min;
+            else
+                return s.triangles.empty() ? glm::dvec3(0) : s.triangles.front().v0;
+        },
+        shape);
+}
+
+}  // namespace whitted

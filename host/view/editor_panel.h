@@ -1,0 +1,52 @@
+// The live window's ImGui panels: the overlay (samples per pixel, frame
+// time, rays per second, device, the layer shown, the reload error) and the
+// scene editor (lights and objects; position, colours, coefficients; Save).
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "scene/scene.h"
+
+namespace whitted {
+
+struct OverlayInfo {
+    std::string device;
+    std::string layer;     // name of the image shown
+    uint32_t samples = 0;  // completed samples per pixel
+    uint32_t target = 0;
+    double frameMs = 0;
+    double raysPerSecond = 0;
+    std::string error;   // the last refused reload, empty when fine
+    std::string status;  // the last event (saved, reloaded, ...)
+};
+
+void drawOverlay(const OverlayInfo& info);
+
+// Editor state kept between frames.
+struct EditorState {
+    bool visible = true;
+    int selectedLight = -1;
+    int selectedObject = -1;
+};
+
+// What the user did in the editor this frame.
+struct EditorResult {
+    bool changed = false;        // the scene was edited; re-upload it
+    bool saveRequested = false;  // "Save" was pressed
+};
+
+EditorResult drawEditorPanel(Scene& scene, EditorState& state);
+
+// One field of an object, as the panel sets it: ior, kt, kr, ks, kd, ka (the
+// material) or x, y, z (moves the shape so its reference point has that
+// coordinate). Returns an error text for a bad index, field or value.
+std::optional<std::string> setObjectField(Scene& scene, int object, const std::string& field, double value);
+
+// Moves a shape by `delta` (every point of it).
+void translateShape(Shape& shape, const glm::dvec3& delta);
+// The point the panel shows as an object's position (sphere centre,
+// cylinder base, plane point, box min corner, first vertex otherwise).
+glm::dvec3 shapeReferencePoint(const Shape& shape);
+
+}  // namespace whitted

@@ -1,0 +1,598 @@
+#include "view/view_app.h"
+
+#include "app/commands.h"
+#include "io/aov_output.h"
+#include "io/image_io.h"
+#include "io/render_record.h"
+#include "render/renderer.h"
+#include "scene/scene_loader.h"
+#include "scene/scene_writer.h"
+#include "view/camera_controller.h"
+#include "view/editor_panel.h"
+#include "view/file_watcher.h"
+#include "view/imgui_layer.h"
+#include "view/presenter.h"
+#include "view/progressive.h"
+#include "view/view_script.h"
+#include "view/window.h"
+#include "vk/context.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui/imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace whitted {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The images the window can show: the main image, then every auxiliary
+// image in the order of `--aov all`, drawn as io/aov_output.cpp writes them.
+struct LayerView {
+    std::string name;
+    gpu::DisplayParams params;
+};
+
+std::vector<LayerView> layerViews(int width, int height) {
+    glm::uvec4 size(width, height, 0, 0);
+    auto make = [&](const char* name, uint32_t kind, uint32_t layer, uint32_t channel, float scale) {
+        return LayerView{
+            name, {.view = glm::uvec4(kind, layer, channel, 0), .size = size, .scale = glm::vec4(scale, 1, 0, 0)}};
+    };
+    return {make("color", gpu::kDisplayColor, gpu::kAovColor, 0, 1),
+            make("ambient", gpu::kDisplayColor, gpu::kAovAmbient, 0, 1),
+            make("diffuse", gpu::kDisplayColor, gpu::kAovDiffuse, 0, 1),
+            make("specular", gpu::kDisplayColor, gpu::kAovSpecular, 0, 1),
+            make("reflection", gpu::kDisplayColor, gpu::kAovReflection, 0, 1),
+            make("transmission", gpu::kDisplayColor, gpu::kAovTransmission, 0, 1),
+            make("ambient_coef", gpu::kDisplayScalar, gpu::kAovCoefs0, 0, 1),
+            make("diffuse_coef", gpu::kDisplayScalar, gpu::kAovCoefs0, 1, 1),
+            make("specular_coef", gpu::kDisplayScalar, gpu::kAovCoefs0, 2, 1),
+            make("reflection_coef", gpu::kDisplayScalar, gpu::kAovCoefs1, 0, 1),
+            make("transmission_coef", gpu::kDisplayScalar, gpu::kAovCoefs1, 1, 1),
+            make("ior", gpu::kDisplayScalar, gpu::kAovCoefs1, 2, 1.0f / 3.0f),
+            make("depth", gpu::kDisplayDepth, gpu::kAovCoefs0, 3, 1),
+            make("normal", gpu::kDisplayNormal, gpu::kAovNormal, 0, 1)};
+}
+
+void writeRgba8Png(const std::filesystem::path& path, const Rgba8Image& image) {
+    std::vector<float> rgb(size_t(image.width) * image.height * 3);
+    for (size_t i = 0, n = size_t(image.width) * image.height; i < n; ++i)
+        for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = float(image.pixels[i * 4 + c]) / 255.0f;
+    // Linear8 stores round(v * 255): the bytes come out as they went in.
+    writeImage(path, image.width, image.height, 3, rgb, PixelEncoding::Linear8);
+}
+
+int keyByName(const std::string& name) {
+    static const std::map<std::string, int> named = {
+        {"ESCAPE", GLFW_KEY_ESCAPE}, {"F1", GLFW_KEY_F1}, {"TAB", GLFW_KEY_TAB}, {"SPACE", GLFW_KEY_SPACE}};
+    if (auto it = named.find(name); it != named.end()) return it->second;
+    if (name.size() == 1 && name[0] >= 'A' && name[0] <= 'Z') return GLFW_KEY_A + (name[0] - 'A');
+    if (name.size() == 1 && name[0] >= '0' && name[0] <= '9') return GLFW_KEY_0 + (name[0] - '0');
+    return GLFW_KEY_UNKNOWN;
+}
+
+class ViewApp final : public InputSink {
+public:
+    ViewApp(const ViewOptions& options, Scene scene, std::vector<ScriptCommand> script)
+        : options_(options),
+          scene_(std::move(scene)),
+          script_(std::move(script)),
+          window_(windowSize(options, scene_).x * windowScale(options, scene_),
+                  windowSize(options, scene_).y * windowScale(options, scene_),
+                  "whitted view - " + options.scene.string()),
+          ctx_(contextOptions(options)),
+          renderer_(ctx_, scene_, rendererSettings(options)),
+          presenter_(ctx_, window_.handle(), renderer_.outputBuffer(), renderer_.width(), renderer_.height()),
+          imgui_(ctx_, window_.handle(), presenter_),
+          camera_(scene_.camera, sceneRadius(scene_)),
+          progressive_(renderer_.width(), renderer_.height(), uint32_t(options.settings.samplesPerPixel),
+                       options.targetFrameMs / 1000.0),
+          watcher_(options.scene, std::chrono::milliseconds(250)),
+          layers_(layerViews(renderer_.width(), renderer_.height())) {
+        window_.setInputSink(this);
+        camera_.takeChanged();  // the file's camera, already uploaded
+        depthScale_ = float(sceneRadius(scene_));
+        overlay_.device = ctx_.deviceInfo().name;
+        log("opened " + options.scene.string() + " at " + std::to_string(renderer_.width()) + "x" +
+            std::to_string(renderer_.height()) + ", " + std::to_string(options.settings.samplesPerPixel) +
+            " spp, device " + ctx_.deviceInfo().name);
+    }
+
+    int run();
+
+    // InputSink
+    void onKey(int key, int action, int mods) override;
+    void onMouseButton(int button, int action, double x, double y) override;
+    void onCursor(double x, double y) override;
+    void onScroll(double steps) override { camera_.zoom(steps); }
+
+private:
+    static glm::ivec2 windowSize(const ViewOptions& o, const Scene& s) {
+        return {o.settings.width > 0 ? o.settings.width : s.camera.width,
+                o.settings.height > 0 ? o.settings.height : s.camera.height};
+    }
+    // Small images are shown enlarged by a whole factor (nearest pixel), so
+    // that the overlay and the panel have room.
+    static int windowScale(const ViewOptions& o, const Scene& s) {
+        glm::ivec2 size = windowSize(o, s);
+        return std::max(1, std::min(800 / size.x, 600 / size.y));
+    }
+    static ContextOptions contextOptions(const ViewOptions& o) {
+        ContextOptions c{.validation = o.validation, .deviceName = o.device};
+        c.instanceExtensions = Window::requiredInstanceExtensions();
+        c.canPresent = [](VkInstance instance, VkPhysicalDevice device, uint32_t family) {
+            return glfwGetPhysicalDevicePresentationSupport(instance, device, family) == GLFW_TRUE;
+        };
+        return c;
+    }
+    RenderSettings rendererSettings(const ViewOptions& o) const {
+        RenderSettings s = o.settings;
+        glm::ivec2 size = windowSize(o, scene_);
+        s.width = size.x;
+        s.height = size.y;
+        s.auxiliary = true;
+        return s;
+    }
+
+    void log(const std::string& line) {
+        std::printf("view: %s\n", line.c_str());
+        std::fflush(stdout);
+    }
+    void restart(const std::string& why) {
+        progressive_.restart();
+        log("restart (" + why + ")");
+    }
+    void uploadScene(const std::string& why) {
+        Scene shown = scene_;
+        shown.camera = camera_.camera();
+        renderer_.setScene(shown);
+        restart(why);
+    }
+    void checkReload();
+    // A failed save (disk full, no permission) is shown, not fatal.
+    template <typename F>
+    void guarded(F&& f) {
+        try {
+            f();
+        } catch (const std::exception& e) {
+            overlay_.status = std::string("save failed: ") + e.what();
+            log(overlay_.status);
+        }
+    }
+    // " (N ms after the file changed)", from the file's modification time.
+    std::string sinceChange() const {
+        std::error_code ec;
+        auto modified = std::filesystem::last_write_time(options_.scene, ec);
+        if (ec) return "";
+        auto age = std::filesystem::file_time_type::clock::now() - modified;
+        return " (" + std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(age).count()) +
+               " ms after the file changed)";
+    }
+    bool stepScript();  // false: the script quit or failed
+    void flyFromKeys(double seconds);
+    void saveImages();
+    void saveScene();
+    void writeScreenshot(const std::filesystem::path& path, bool window);
+
+    const ViewOptions& options_;
+    Scene scene_;
+    std::vector<ScriptCommand> script_;
+    Window window_;
+    VulkanContext ctx_;
+    Renderer renderer_;
+    Presenter presenter_;
+    ImGuiLayer imgui_;
+    CameraController camera_;
+    Progressive progressive_;
+    FileWatcher watcher_;
+    std::vector<LayerView> layers_;
+    size_t layer_ = 0;
+    float depthScale_ = 1;
+    EditorState editor_;
+    OverlayInfo overlay_;
+
+    // Input state.
+    std::set<int> heldKeys_;
+    int dragButton_ = -1;
+    glm::dvec2 cursor_{0};
+
+    // Script state.
+    size_t scriptNext_ = 0;
+    Clock::time_point waitStart_ = Clock::now();
+    long waitFrames_ = -1;
+    long reloadCount_ = 0;            // file changes seen, loaded or refused
+    std::optional<long> reloadMark_;  // what `reload` waits to exceed
+    std::optional<std::pair<int, Clock::time_point>> scriptHold_;
+    std::vector<std::pair<std::filesystem::path, bool>> pendingShots_;  // path, whole window
+    bool quit_ = false;
+    int status_ = kExitOk;
+    long frame_ = 0;
+};
+
+void ViewApp::onKey(int key, int action, int mods) {
+    if (action == GLFW_RELEASE) {
+        heldKeys_.erase(key);
+        return;
+    }
+    if (action == GLFW_PRESS) heldKeys_.insert(key);
+    if (action != GLFW_PRESS) return;
+    switch (key) {
+        case GLFW_KEY_ESCAPE:
+            quit_ = true;
+            break;
+        case GLFW_KEY_R:
+            camera_.reset();
+            break;
+        case GLFW_KEY_L:
+            layer_ = (mods & GLFW_MOD_SHIFT) ? (layer_ + layers_.size() - 1) % layers_.size()
+                                             : (layer_ + 1) % layers_.size();
+            log("showing " + layers_[layer_].name);
+            break;
+        case GLFW_KEY_0:
+            layer_ = 0;
+            log("showing color");
+            break;
+        case GLFW_KEY_C:
+            std::printf("%s", cameraXml(camera_.camera()).c_str());
+            std::fflush(stdout);
+            break;
+        case GLFW_KEY_P:
+            guarded([&] { saveImages(); });
+            break;
+        case GLFW_KEY_F1:
+            editor_.visible = !editor_.visible;
+            break;
+        case GLFW_KEY_S:
+            if (mods & GLFW_MOD_CONTROL) guarded([&] { saveScene(); });
+            break;
+        default:
+            break;
+    }
+}
+
+void ViewApp::onMouseButton(int button, int action, double x, double y) {
+    cursor_ = {x, y};
+    if (action == GLFW_PRESS && dragButton_ < 0)
+        dragButton_ = button;
+    else if (action == GLFW_RELEASE && button == dragButton_)
+        dragButton_ = -1;
+}
+
+void ViewApp::onCursor(double x, double y) {
+    glm::dvec2 d = glm::dvec2(x, y) - cursor_;
+    cursor_ = {x, y};
+    if (dragButton_ == GLFW_MOUSE_BUTTON_LEFT)
+        camera_.orbit(d.x, d.y);
+    else if (dragButton_ == GLFW_MOUSE_BUTTON_RIGHT || dragButton_ == GLFW_MOUSE_BUTTON_MIDDLE) {
+        int w = 0, h = 0;
+        glfwGetWindowSize(window_.handle(), &w, &h);
+        camera_.pan(d.x, d.y, h);
+    }
+}
+
+void ViewApp::flyFromKeys(double seconds) {
+    if (ImGui::GetIO().WantCaptureKeyboard || heldKeys_.count(GLFW_KEY_LEFT_CONTROL)) return;
+    glm::dvec3 d(0);
+    auto held = [&](int k) { return heldKeys_.count(k) ? 1.0 : 0.0; };
+    d.z = held(GLFW_KEY_W) - held(GLFW_KEY_S);
+    d.x = held(GLFW_KEY_D) - held(GLFW_KEY_A);
+    d.y = held(GLFW_KEY_E) - held(GLFW_KEY_Q);
+    if (d != glm::dvec3(0)) camera_.fly(d, std::min(seconds, 0.1));
+}
+
+// A changed file is loaded in full; a refused one leaves the last good scene
+// in place and its FILE:LINE message on screen until a good version arrives.
+void ViewApp::checkReload() {
+    std::optional<std::string> text = watcher_.poll();
+    if (!text) return;
+    ++reloadCount_;
+    try {
+        Scene fresh = loadSceneFromString(*text, options_.scene);
+        bool cameraChanged =
+            fresh.camera.eye != scene_.camera.eye || fresh.camera.windowCenter != scene_.camera.windowCenter ||
+            fresh.camera.up != scene_.camera.up || fresh.camera.verticalFovDegrees != scene_.camera.verticalFovDegrees;
+        scene_ = std::move(fresh);
+        if (cameraChanged) camera_.setHome(scene_.camera, sceneRadius(scene_));
+        depthScale_ = float(sceneRadius(scene_));
+        overlay_.error.clear();
+        overlay_.status = "reloaded " + options_.scene.filename().string();
+        for (const std::string& w : scene_.warnings) log("warning: " + w);
+        uploadScene("scene file reloaded");
+        camera_.takeChanged();
+        log("reloaded " + options_.scene.string() + sinceChange());
+    } catch (const SceneError& e) {
+        overlay_.error = e.what();
+        log(std::string("reload refused: ") + e.what() + sinceChange());
+    }
+}
+
+void ViewApp::saveImages() {
+    RenderResult result = renderer_.readMeans();
+    std::vector<std::string> aovs = parseAovList("all");
+    std::filesystem::path staging = beginHistoryFolder(options_.historyRoot);
+    try {
+        std::vector<std::filesystem::path> files =
+            writeRenderImages(result, staging / "image.png", aovs, Tonemap::Clamp);
+        Scene shown = scene_;
+        shown.camera = camera_.camera();
+        writeSceneFile(shown, staging / "scene.xml");
+        files.push_back(staging / "scene.xml");
+        RenderSettings settings = renderer_.settings();
+        settings.samplesPerPixel = result.samplesPerPixel;
+        RenderRecord record{.scenePath = options_.scene,
+                            .settings = settings,
+                            .tonemap = "clamp",
+                            .device = ctx_.deviceInfo(),
+                            .result = &result,
+                            .files = files};
+        writeTextFile(staging / "render.json", renderRecordJson(record));
+    } catch (...) {
+        std::filesystem::remove_all(staging);
+        throw;
+    }
+    std::filesystem::path folder = commitHistoryFolder(staging, options_.historyRoot);
+    overlay_.status = "saved " + folder.string();
+    log("saved images to " + folder.string() + " (" + std::to_string(result.samplesPerPixel) + " spp)");
+}
+
+// The scene as edited, with the current camera, over the scene file
+// (atomically); the watcher is told, so the write does not count as an edit.
+void ViewApp::saveScene() {
+    Scene shown = scene_;
+    shown.camera = camera_.camera();
+    std::string text = sceneXml(shown);
+    writeTextFile(options_.scene, text);
+    watcher_.markSeen(text);
+    overlay_.status = "saved " + options_.scene.string();
+    log("saved scene to " + options_.scene.string());
+}
+
+void ViewApp::writeScreenshot(const std::filesystem::path& path, bool window) {
+    Rgba8Image image = window ? presenter_.windowPixels() : presenter_.displayPixels();
+    writeRgba8Png(path, image);
+    log(std::string(window ? "window screenshot " : "screenshot ") + path.string() + " (" +
+        std::to_string(progressive_.completedSamples()) + " spp, " + layers_[layer_].name + ")");
+}
+
+// Runs script commands until one has to wait. Returns false to stop.
+bool ViewApp::stepScript() {
+    while (scriptNext_ < script_.size()) {
+        const ScriptCommand& c = script_[scriptNext_];
+        auto fail = [&](const std::string& what) {
+            std::cerr << options_.script->string() << ":" << c.line << ": " << what << "\n";
+            status_ = kExitBadInput;
+            return false;
+        };
+        auto number = [&](const std::string& s, double& v) {
+            try {
+                size_t used = 0;
+                v = std::stod(s, &used);
+                return used == s.size();
+            } catch (...) {
+                return false;
+            }
+        };
+        double elapsed = std::chrono::duration<double>(Clock::now() - waitStart_).count();
+        if (elapsed > kScriptWaitSeconds) {
+            std::cerr << options_.script->string() << ":" << c.line << ": '" << c.name << "' still waiting after "
+                      << kScriptWaitSeconds << " s\n";
+            status_ = kExitFailure;
+            return false;
+        }
+        // Waiting commands.
+        bool waited = c.name == "frames" || c.name == "spp" || c.name == "reload" || c.name == "hold";
+        if (c.name == "frames") {
+            double n = 0;
+            if (!number(c.args[0], n) || n < 0) return fail("frames needs a count");
+            if (waitFrames_ < 0) waitFrames_ = frame_ + long(n);
+            if (frame_ < waitFrames_) return true;
+            waitFrames_ = -1;
+        } else if (c.name == "spp") {
+            double n = 0;
+            if (!number(c.args[0], n) || n < 1) return fail("spp needs a count >= 1");
+            if (n > progressive_.targetSamples()) return fail("spp " + c.args[0] + " is above the --spp budget");
+            if (progressive_.completedSamples() < uint32_t(n)) return true;
+        } else if (c.name == "reload") {
+            // A reload after the last file edit of the script (it may have
+            // happened already, in the frame of the edit).
+            if (!reloadMark_) reloadMark_ = reloadCount_;
+            if (reloadCount_ <= *reloadMark_) return true;
+            reloadMark_.reset();
+        } else if (c.name == "hold") {
+            double seconds = 0;
+            int key = keyByName(c.args[0]);
+            if (key == GLFW_KEY_UNKNOWN || !number(c.args[1], seconds)) return fail("hold KEY SECONDS");
+            if (!scriptHold_) {
+                scriptHold_ = {key, Clock::now()};
+                onKey(key, GLFW_PRESS, 0);
+            }
+            if (std::chrono::duration<double>(Clock::now() - scriptHold_->second).count() < seconds) return true;
+            onKey(key, GLFW_RELEASE, 0);
+            scriptHold_.reset();
+            // Immediate commands.
+        } else if (c.name == "key") {
+            int key = keyByName(c.args[0]);
+            if (key == GLFW_KEY_UNKNOWN) return fail("unknown key '" + c.args[0] + "'");
+            onKey(key, GLFW_PRESS, 0);
+            onKey(key, GLFW_RELEASE, 0);
+        } else if (c.name == "drag") {
+            static const std::map<std::string, int> buttons = {{"left", GLFW_MOUSE_BUTTON_LEFT},
+                                                               {"right", GLFW_MOUSE_BUTTON_RIGHT},
+                                                               {"middle", GLFW_MOUSE_BUTTON_MIDDLE}};
+            double dx = 0, dy = 0;
+            auto b = buttons.find(c.args[0]);
+            if (b == buttons.end() || !number(c.args[1], dx) || !number(c.args[2], dy))
+                return fail("drag left|right|middle DX DY");
+            glm::dvec2 start = cursor_;
+            onMouseButton(b->second, GLFW_PRESS, start.x, start.y);
+            onCursor(start.x + dx, start.y + dy);
+            onMouseButton(b->second, GLFW_RELEASE, start.x + dx, start.y + dy);
+        } else if (c.name == "scroll") {
+            double steps = 0;
+            if (!number(c.args[0], steps)) return fail("scroll STEPS");
+            onScroll(steps);
+        } else if (c.name == "copy") {
+            std::error_code ec;
+            std::filesystem::copy_file(c.args[0], c.args[1], std::filesystem::copy_options::overwrite_existing, ec);
+            if (ec) return fail("copy: " + ec.message());
+            reloadMark_ = reloadCount_;
+        } else if (c.name == "replace") {
+            std::ifstream in(c.args[0], std::ios::binary);
+            std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            size_t at = text.find(c.args[1]);
+            if (!in || at == std::string::npos) return fail("replace: '" + c.args[1] + "' not found in " + c.args[0]);
+            text.replace(at, c.args[1].size(), c.args[2]);
+            std::ofstream(c.args[0], std::ios::binary | std::ios::trunc) << text;  // in place, as an editor would
+            reloadMark_ = reloadCount_;
+        } else if (c.name == "edit") {
+            double index = 0, value = 0;
+            if (!number(c.args[0], index) || !number(c.args[2], value)) return fail("edit OBJECT FIELD VALUE");
+            if (auto error = setObjectField(scene_, int(index), c.args[1], value)) return fail("edit: " + *error);
+            uploadScene("edited object " + c.args[0]);
+        } else if (c.name == "select") {
+            double index = 0;
+            if ((c.args[0] != "light" && c.args[0] != "object") || !number(c.args[1], index))
+                return fail("select light|object N");
+            editor_.selectedLight = c.args[0] == "light" ? int(index) : -1;
+            editor_.selectedObject = c.args[0] == "object" ? int(index) : -1;
+        } else if (c.name == "layer") {
+            auto it =
+                std::find_if(layers_.begin(), layers_.end(), [&](const LayerView& l) { return l.name == c.args[0]; });
+            if (it == layers_.end()) return fail("unknown layer '" + c.args[0] + "'");
+            layer_ = size_t(it - layers_.begin());
+        } else if (c.name == "screenshot" || c.name == "window_screenshot") {
+            // Taken after this frame is drawn; later commands wait for it.
+            pendingShots_.emplace_back(c.args[0], c.name == "window_screenshot");
+            ++scriptNext_;
+            waitStart_ = Clock::now();
+            return true;
+        } else if (c.name == "save_images") {
+            saveImages();
+        } else if (c.name == "save_scene") {
+            saveScene();
+        } else if (c.name == "quit") {
+            quit_ = true;
+            ++scriptNext_;
+            return true;
+        }
+        // One command per frame: what it changed (a restart, a reload) is
+        // in place before the next command looks at the state.
+        ++scriptNext_;
+        waitStart_ = Clock::now();
+        if (!waited) return true;
+    }
+    return true;
+}
+
+int ViewApp::run() {
+    auto last = Clock::now();
+    double smoothedRays = 0, smoothedMs = 0, overheadSeconds = 0;
+    double traceTotal = 0, frameTotal = 0, frameMax = 0;
+    long tracedFrames = 0;
+    while (!quit_ && !window_.shouldClose()) {
+        bool idle = progressive_.done() && scriptNext_ >= script_.size() && heldKeys_.empty() && dragButton_ < 0 &&
+                    options_.frames == 0;
+        if (idle)
+            glfwWaitEventsTimeout(0.05);  // nothing to trace: don't spin the CPU
+        else
+            glfwPollEvents();
+        auto now = Clock::now();
+        double dt = std::chrono::duration<double>(now - last).count();
+        last = now;
+
+        if (!stepScript()) break;
+        flyFromKeys(dt);
+        checkReload();
+
+        imgui_.newFrame();
+        EditorResult edit = drawEditorPanel(scene_, editor_);
+        if (edit.changed) uploadScene("edited in the panel");
+        if (edit.saveRequested) guarded([&] { saveScene(); });
+        if (camera_.takeChanged()) {
+            renderer_.setCamera(camera_.camera());
+            restart("camera moved");
+        }
+        overlay_.layer = layers_[layer_].name;
+        overlay_.samples = progressive_.completedSamples();
+        overlay_.target = progressive_.targetSamples();
+        overlay_.frameMs = smoothedMs;
+        overlay_.raysPerSecond = smoothedRays;
+        drawOverlay(overlay_);
+        ImDrawData* drawData = imgui_.render();
+
+        if (!presenter_.beginFrame()) {  // minimised, or the swapchain was rebuilt
+            glfwWaitEventsTimeout(0.05);
+            continue;
+        }
+
+        // Tracing in a submission of its own, so that its time is measured
+        // apart from the display and the overlay; the budget gets what the
+        // frame target leaves after them.
+        renderer_.counters() = {};
+        uint64_t recorded = 0;
+        auto traceStart = Clock::now();
+        if (!progressive_.done() || progressive_.needsClear())
+            ctx_.submitAndWait([&](vk::raii::CommandBuffer& cmd) { recorded = progressive_.record(renderer_, cmd); });
+        double traceSeconds = std::chrono::duration<double>(Clock::now() - traceStart).count();
+        double target = options_.targetFrameMs / 1000.0;
+        progressive_.setTargetSeconds(std::max(target - overheadSeconds, 0.25 * target));
+        progressive_.frameDone(traceSeconds, recorded);
+
+        gpu::DisplayParams display = layers_[layer_].params;
+        display.scale.y = depthScale_;
+        presenter_.recordDisplay(display);
+        bool captureWindow = std::any_of(pendingShots_.begin(), pendingShots_.end(), [](auto& s) { return s.second; });
+        presenter_.recordOverlay(drawData, captureWindow);
+        double presentSeconds = presenter_.endFrame();
+        overheadSeconds = overheadSeconds == 0 ? presentSeconds : 0.8 * overheadSeconds + 0.2 * presentSeconds;
+        if (ctx_.validationMessageCount() > 0) {
+            std::cerr << "whitted: the Vulkan validation layer reported " << ctx_.validationMessageCount()
+                      << " message(s)\n";
+            return kExitValidation;
+        }
+
+        const gpu::RayCounters& rays = renderer_.counters();
+        double frameRays = double(rays.primary) + rays.shadow + rays.secondary;
+        double frameSeconds = traceSeconds + presentSeconds;
+        smoothedMs = smoothedMs == 0 ? frameSeconds * 1e3 : 0.9 * smoothedMs + 0.1 * frameSeconds * 1e3;
+        if (recorded > 0) {
+            smoothedRays =
+                smoothedRays == 0 ? frameRays / traceSeconds : 0.9 * smoothedRays + 0.1 * frameRays / traceSeconds;
+            tracedFrames++;
+            traceTotal += traceSeconds;
+            frameTotal += frameSeconds;
+            frameMax = std::max(frameMax, frameSeconds);
+        }
+        for (auto& [path, whole] : pendingShots_) writeScreenshot(path, whole);
+        pendingShots_.clear();
+        ++frame_;
+        if (options_.frames > 0 && frame_ >= options_.frames) break;
+    }
+    if (options_.screenshot && status_ == kExitOk) writeScreenshot(*options_.screenshot, false);
+    char timing[160];
+    std::snprintf(timing, sizeof timing, "; frames that traced: %ld, mean %.1f ms (tracing %.1f ms), longest %.1f ms",
+                  tracedFrames, tracedFrames ? 1e3 * frameTotal / tracedFrames : 0.0,
+                  tracedFrames ? 1e3 * traceTotal / tracedFrames : 0.0, 1e3 * frameMax);
+    log("closed after " + std::to_string(frame_) + " frames, " + std::to_string(progressive_.completedSamples()) +
+        " spp" + timing);
+    return status_;
+}
+
+}  // namespace
+
+int runViewWindow(const ViewOptions& options, Scene scene, std::vector<ScriptCommand> script) {
+    ViewApp app(options, std::move(scene), std::move(script));
+    return app.run();
+}
+
+}  // namespace whitted

@@ -1,0 +1,35 @@
+// `whitted view`: the live window. The same Renderer and compute shader as
+// `whitted render`, driven progressively (view/progressive.h), shown through
+// view/presenter.h with the ImGui overlay and editor, the camera on the mouse
+// and keyboard, and the scene file reloaded when it changes on disk.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "render/render_settings.h"
+#include "scene/scene.h"
+#include "view/view_script.h"
+
+namespace whitted {
+
+struct ViewOptions {
+    std::filesystem::path scene;
+    RenderSettings settings;  // samplesPerPixel = the sample budget; auxiliary always on
+    std::string device;
+    bool validation = false;
+    int frames = 0;                                   // stop after this many frames; 0 = until the window closes
+    std::optional<std::filesystem::path> screenshot;  // written when the window closes
+    std::optional<std::filesystem::path> script;
+    std::filesystem::path historyRoot = "renders";
+    double targetFrameMs = 40;
+};
+
+// Opens the window on a loaded scene and runs until it closes, --frames
+// runs out or the script quits; returns the exit status (kExit* of
+// app/commands.h). app/view_command.cpp checks the input first.
+int runViewWindow(const ViewOptions& options, Scene scene, std::vector<ScriptCommand> script);
+
+}  // namespace whitted
