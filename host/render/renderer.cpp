@@ -59,7 +59,6 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     layerCount_ = settings.auxiliary ? gpu::kAovCount : 1;
     vk::DeviceSize outputSize = vk::DeviceSize(layerCount_) * scene_.width * scene_.height * sizeof(glm::vec4);
     vk::DeviceSize maxRange = ctx.physicalDevice.getProperties().limits.maxStorageBufferRange;
-    vk::DeviceSize primitiveSize = scene_.primitives.size() * sizeof(gpu::Primitive);
     if (outputSize > maxRange)
         throw std::runtime_error("the image and its auxiliary layers need " + std::to_string(outputSize >> 20) +
                                  " MiB, more than this device's storage buffer limit of " +
@@ -111,12 +110,7 @@ void Renderer::setScene(const Scene& scene) {
     RenderSettings settings = settings_;
     settings.width = scene_.width;  // the image size stays
     settings.height = scene_.height;
-    GpuScene packed = packScene(scene, settings);
-    if (packed.primitives.size() * sizeof(gpu::Primitive) >
-        ctx_.physicalDevice.getProperties().limits.maxStorageBufferRange)
-        throw std::runtime_error("the scene's " + std::to_string(packed.primitives.size()) +
-                                 " primitives exceed this device's storage buffer limit");
-    scene_ = std::move(packed);
+    scene_ = packScene(checkPrimitivesFit(ctx_, scene), settings);
     uploadScene();
 }
 
