@@ -7,6 +7,7 @@
 #include "scene/scene_loader.h"
 #include "vk/context.h"
 
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -38,12 +39,14 @@ int runRenderCommand(const RenderCommandOptions& options) {
         return kExitBadInput;
     }
     Scene scene;
+    auto loadStart = std::chrono::steady_clock::now();
     try {
         scene = loadScene(options.scene);
     } catch (const SceneError& e) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
     }
+    double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
     for (const std::string& warning : scene.warnings) std::cerr << "warning: " << warning << "\n";
     if (options.output)
         if (auto problem = checkOutput(*options.output)) {
@@ -73,6 +76,12 @@ int runRenderCommand(const RenderCommandOptions& options) {
     if (options.output) {
         files = writeRenderImages(result, *options.output, aovs, options.tonemap);
         shown = *options.output;
+        // The record goes beside the image: out.png -> out.json.
+        std::filesystem::path recordPath = *options.output;
+        recordPath.replace_extension(".json");
+        RenderRecord record{.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
+                            .device = ctx.deviceInfo(), .result = &result, .files = files, .loadSeconds = loadSeconds};
+        writeTextFile(recordPath, renderRecordJson(record));
     } else {
         std::filesystem::path staging = beginHistoryFolder(options.historyRoot);
         try {
@@ -80,7 +89,8 @@ int runRenderCommand(const RenderCommandOptions& options) {
             std::filesystem::copy_file(options.scene, staging / "scene.xml");
             files.push_back(staging / "scene.xml");
             RenderRecord record{.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
-                                .device = ctx.deviceInfo(), .result = &result, .files = files};
+                                .device = ctx.deviceInfo(), .result = &result, .files = files,
+                                .loadSeconds = loadSeconds};
             writeTextFile(staging / "render.json", renderRecordJson(record));
         } catch (...) {
             std::filesystem::remove_all(staging);

@@ -30,8 +30,10 @@ struct RenderResult {
     std::array<std::vector<float>, gpu::kAovCount> layers;  // only kAovColor without auxiliary
     RayStats rays;
     BvhStats bvh;
-    double uploadSeconds = 0;  // BVH build and buffer uploads
+    double uploadSeconds = 0;  // buffer uploads (the BVH build is bvh.buildSeconds)
+    double pipelineSeconds = 0;  // shader compilation by the driver
     double renderSeconds = 0;
+    uint64_t deviceBytes = 0;  // every buffer the render allocated on the device
 };
 
 // Fraction of the work done so far, in [0, 1].
@@ -58,6 +60,8 @@ private:
     vk::raii::DescriptorPool descriptorPool_{nullptr};
     vk::raii::DescriptorSet descriptorSet_{nullptr};
     double uploadSeconds_ = 0;
+    double pipelineSeconds_ = 0;
+    uint64_t deviceBytes_ = 0;
 };
 
 }  // namespace whitted
