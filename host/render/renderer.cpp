@@ -4,8 +4,13 @@
 
 #include "whitted_comp.h"  // kWhittedCompSpv, generated from shaders/whitted.comp
 
+#include <array>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -19,13 +24,28 @@ double secondsSince(Clock::time_point start) {
 
 constexpr uint32_t kTileSize = 128;
 
+// Profiling hook (tools/profile_shader.sh): WHITTED_SHADER_SPV names a
+// SPIR-V file compiled from shaders/whitted.comp with some feature switched
+// off, used instead of the embedded shader. Empty when unset.
+std::vector<uint32_t> profilingShaderVariant() {
+    const char* path = std::getenv("WHITTED_SHADER_SPV");
+    if (!path || !*path) return {};
+    std::ifstream in(path, std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
+    if (!in.good() && !in.eof()) throw std::runtime_error(std::string(path) + ": cannot read WHITTED_SHADER_SPV");
+    if (bytes.empty() || bytes.size() % 4 != 0)
+        throw std::runtime_error(std::string(path) + ": WHITTED_SHADER_SPV is not a SPIR-V file");
+    std::vector<uint32_t> words(bytes.size() / 4);
+    std::memcpy(words.data(), bytes.data(), bytes.size());
+    return words;
+}
+
 constexpr vk::BufferUsageFlags kStorage = vk::BufferUsageFlagBits::eStorageBuffer;
 
 }  // namespace
 
 Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings& settings)
     : ctx_(ctx), settings_(settings), scene_(packScene(scene, settings)) {
-    auto start = Clock::now();
     if (scene_.width < 1 || scene_.height < 1 || scene_.width > 16384 || scene_.height > 16384)
         throw std::runtime_error("image size " + std::to_string(scene_.width) + "x" + std::to_string(scene_.height) +
                                  " is outside 1..16384");
@@ -53,9 +73,23 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
         vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
         vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
         vk::DescriptorType::eStorageBuffer};
-    pipeline_ = createComputePipeline(ctx, kWhittedCompSpv, bindingTypes, sizeof(gpu::TileParams));
+    auto pipelineStart = Clock::now();
+    // Specialization: the shapes and materials this scene lacks compile out
+    // (on lavapipe every branch costs, taken or not: shaders/shapes/primitive.glsl).
+    std::array<uint32_t, 2> constants = {0u, 0u};
+    for (const gpu::Primitive& p : scene_.primitives) constants[0] |= 1u << p.info.x;
+    for (const gpu::Material& m : scene_.materials) constants[1] |= m.coefs1.y > 0.0f ? 1u : 0u;
+    const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
+                                                  {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo specialization{.mapEntryCount = 2, .pMapEntries = entries,
+                                          .dataSize = sizeof(constants), .pData = constants.data()};
+    std::vector<uint32_t> variant = profilingShaderVariant();
+    pipeline_ = createComputePipeline(ctx, variant.empty() ? std::span<const uint32_t>(kWhittedCompSpv) : variant,
+                                      bindingTypes, sizeof(gpu::TileParams), &specialization);
+    pipelineSeconds_ = secondsSince(pipelineStart);
 
     // Scene upload.
+    auto uploadStart = Clock::now();
     auto hostVisible = vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent;
     params_ = createBuffer(ctx, sizeof(gpu::FrameParams), vk::BufferUsageFlagBits::eUniformBuffer, hostVisible);
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
@@ -82,7 +116,8 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
         writes.push_back({.dstSet = *descriptorSet_, .dstBinding = i, .descriptorCount = 1,
                           .descriptorType = bindingTypes[i], .pBufferInfo = &infos[i]});
     ctx.device.updateDescriptorSets(writes, nullptr);
-    uploadSeconds_ = secondsSince(start);
+    uploadSeconds_ = secondsSince(uploadStart);
+    for (const Buffer* b : buffers) deviceBytes_ += b->size;
 }
 
 // Tiles of kTileSize^2 pixels; each tile's samples are split into chunks so
@@ -171,6 +206,8 @@ RenderResult Renderer::render(const ProgressCallback& progress) {
     }
     result.renderSeconds = secondsSince(start);
     result.uploadSeconds = uploadSeconds_;
+    result.pipelineSeconds = pipelineSeconds_;
+    result.deviceBytes = deviceBytes_;
     result.bvh = scene_.bvhStats;
     return result;
 }
