@@ -89,9 +89,11 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             if (entry == kNoEntry) {
                 running = false;
             } else if ((entry & kLeafEntry) != 0u) {
-                BvhNode leaf = bvhNodes[entry & ~kLeafEntry];
-                prim = floatBitsToUint(leaf.lo.w);
-                primEnd = prim + floatBitsToUint(leaf.hi.w);
+                // Only the two words needed: a whole node would be a
+                // gather of eight per lane.
+                uint leaf = entry & ~kLeafEntry;
+                prim = floatBitsToUint(bvhNodes[leaf].lo.w);
+                primEnd = prim + floatBitsToUint(bvhNodes[leaf].hi.w);
             } else {
                 children = entry;
             }
