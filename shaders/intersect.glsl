@@ -30,18 +30,84 @@ vec3 safeInverse(vec3 d) {
 // query and the material lookups of filterThrough compile out.
 layout(constant_id = kSpecTransparency) const bool kSceneHasTransparency = true;
 
-// One loop serves both queries (`shadow` is a constant at each call, so
-// the other query's code folds away). The loop is flat ("if-if" in Aila
-// and Laine's terms): every iteration first takes one traversal step if the
-// lane has no leaf primitive left to test, then tests at most one
-// primitive. A SIMD CPU driver (lavapipe) runs both halves for all lanes
-// under masks anyway, so an iteration costs one node step plus one
-// primitive test and the iteration count is the most work any lane has,
-// where nested loops pay each inner loop's body at least once per outer
-// iteration. Stack entries are the index of an inner node's first child
-// (its children are tested next) or kLeafEntry | the leaf's index.
-// The unbounded primitives (planes; every primitive without a BVH) come
-// first: a near plane then culls the BVH for closest hits.
+// The shapes among the unbounded primitives (planes; every primitive when
+// there is no BVH), a specialization constant like kShapeMask (which covers
+// the primitives in the BVH).
+layout(constant_id = kSpecListShapeMask) const uint kListShapeMask = 0x1fu;
+
+// intersectPrimitive on primitives[i] for a scene whose shapes are `mask`,
+// loading only the words the shape uses (lavapipe gathers each loaded word
+// lane by lane: a whole Primitive is sixteen, a sphere four); with one
+// shape in the mask not even the tag is read.
+bool intersectPrimitiveAt(uint i, const uint mask, Ray ray, float tMin, inout float tHit, out vec3 normal) {
+    normal = vec3(0.0);
+    bool single = bitCount(mask) == 1;
+    uint tag = single ? findLSB(mask) : primitives[i].info.x;
+    if ((mask & (1u << kShapeSphere)) != 0u && tag == kShapeSphere) {
+        vec4 a = primitives[i].a;
+        return intersectSphere(a.xyz, a.w, ray, tMin, tHit, normal);
+    }
+    if ((mask & (1u << kShapeCylinder)) != 0u && tag == kShapeCylinder) {
+        vec4 a = primitives[i].a, b = primitives[i].b;
+        return intersectCylinder(a.xyz, b.xyz, a.w, b.w, ray, tMin, tHit, normal);
+    }
+    if ((mask & (1u << kShapePlane)) != 0u && tag == kShapePlane)
+        return intersectPlane(primitives[i].a.xyz, primitives[i].b.xyz, ray, tMin, tHit, normal);
+    if ((mask & (1u << kShapeTriangle)) != 0u && tag == kShapeTriangle)
+        return intersectTriangle(primitives[i].a.xyz, primitives[i].b.xyz, primitives[i].c.xyz, ray, tMin, tHit,
+                                 normal);
+    if ((mask & (1u << kShapeBox)) != 0u && tag == kShapeBox)
+        return intersectBox(primitives[i].a.xyz, primitives[i].b.xyz, ray, tMin, tHit, normal);
+    return false;
+}
+
+// Tests primitive i for either query. Closest hit (shadow = false): updates
+// hit. Shadow ray: filters transmittance by a crossing of a transparent
+// surface, sets blocked at an opaque one. A primitive is convex or flat, so
+// after a first crossing a shadow ray tests it once more from there
+// (tFrom). Returns whether the next primitive is due.
+bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shadow, inout Hit hit,
+                   inout vec3 transmittance, inout float tFrom, inout bool blocked) {
+    vec3 n;
+    if (!shadow) {
+        if (intersectPrimitiveAt(i, mask, ray, 0.0, hit.t, n)) {
+            hit.normal = n;
+            hit.primitive = i;
+        }
+        return true;
+    }
+    float t = tMax;
+    bool crossed = intersectPrimitiveAt(i, mask, ray, tFrom, t, n);
+    if (crossed) {
+        if (!kSceneHasTransparency) {
+            blocked = true;
+            return true;
+        }
+        Material m = materials[primitives[i].info.y];
+        float kt = m.coefs1.y;
+        if (kt <= 0.0) blocked = true;
+        else transmittance *= kt * mix(vec3(1.0), m.diffuse.rgb, m.coefs0.y);
+    }
+    if (crossed && tFrom == 0.0) {
+        tFrom = t;
+        return false;
+    }
+    tFrom = 0.0;
+    return true;
+}
+
+// One routine serves both queries (`shadow` is a constant at each call, so
+// the other query's code folds away). The unbounded primitives come first,
+// one by one: a near plane then culls the BVH for closest hits. The BVH
+// loop is flat ("if-if" in Aila and Laine's terms): every iteration first
+// takes one traversal step if the lane has no leaf primitive left to test,
+// then tests at most one primitive. A SIMD CPU driver (lavapipe) runs both
+// halves for all lanes under masks anyway, so an iteration costs one node
+// step plus one primitive test and the iteration count is the most work any
+// lane has, where nested loops pay each inner loop's body at least once per
+// outer iteration. Stack entries are the index of an inner node's first
+// child (its children are tested next) or kLeafEntry | the leaf's index.
+// Returns false when a shadow ray is blocked.
 const uint kLeafEntry = 0x80000000u;
 const uint kNoEntry = 0xffffffffu;
 
@@ -49,18 +115,25 @@ uint entryOf(BvhNode node, uint index) {
     return floatBitsToUint(node.hi.w) > 0u ? (kLeafEntry | index) : floatBitsToUint(node.lo.w);
 }
 
-// Closest hit (shadow = false): updates hit. Shadow ray (shadow = true):
-// filters transmittance, returns false once an opaque surface blocks.
 bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance) {
+    float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
+    bool blocked = false;
+    if (kListShapeMask != 0u) {
+        uint i = params.accel.y, end = params.accel.y + params.accel.z;
+        while (i < end) {
+            if (testPrimitive(i, kListShapeMask, ray, tMax, shadow, hit, transmittance, tFrom, blocked)) ++i;
+            if (blocked) return false;
+        }
+    }
+    if (kShapeMask == 0u || params.accel.x == 0u) return true;
+
     vec3 invDir = safeInverse(ray.dir);
     uint stack[kBvhStackSize];
     int top = 0;
     uint children = kNoEntry;  // first child of the inner node to expand next
-    uint prim = params.accel.y;
-    uint primEnd = params.accel.y + params.accel.z;
-    if (params.accel.x > 0u && intersectNodeBounds(bvhNodes[0], ray.origin, invDir, tMax) >= 0.0)
+    uint prim = 0u, primEnd = 0u;
+    if (intersectNodeBounds(bvhNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0)
         stack[top++] = entryOf(bvhNodes[0], 0u);
-    float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
 
     bool running = true;
     while (running) {
@@ -99,33 +172,8 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             }
         }
         if (prim < primEnd) {
-            Primitive p = primitives[prim];
-            vec3 n;
-            if (!shadow) {
-                if (intersectPrimitive(p, ray, 0.0, hit.t, n)) {
-                    hit.normal = n;
-                    hit.primitive = prim;
-                }
-                ++prim;
-            } else {
-                float t = tMax;
-                bool crossed = intersectPrimitive(p, ray, tFrom, t, n);
-                if (crossed) {
-                    if (!kSceneHasTransparency) return false;
-                    Material m = materials[p.info.y];
-                    float kt = m.coefs1.y;
-                    if (kt <= 0.0) return false;
-                    transmittance *= kt * mix(vec3(1.0), m.diffuse.rgb, m.coefs0.y);
-                }
-                // A primitive is convex or flat: after a first crossing it
-                // is tested once more from there, then the next one.
-                if (crossed && tFrom == 0.0) {
-                    tFrom = t;
-                } else {
-                    tFrom = 0.0;
-                    ++prim;
-                }
-            }
+            if (testPrimitive(prim, kShapeMask, ray, tMax, shadow, hit, transmittance, tFrom, blocked)) ++prim;
+            if (blocked) return false;
             running = true;
         }
     }

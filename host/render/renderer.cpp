@@ -76,12 +76,15 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     auto pipelineStart = Clock::now();
     // Specialization: the shapes and materials this scene lacks compile out
     // (on lavapipe every branch costs, taken or not: shaders/shapes/primitive.glsl).
-    std::array<uint32_t, 2> constants = {0u, 0u};
-    for (const gpu::Primitive& p : scene_.primitives) constants[0] |= 1u << p.info.x;
+    // constants: shapes in the BVH, transparency, shapes outside the BVH.
+    std::array<uint32_t, 3> constants = {0u, 0u, 0u};
+    for (size_t i = 0; i < scene_.primitives.size(); ++i)
+        constants[i < scene_.params.accel.y ? 0 : 2] |= 1u << scene_.primitives[i].info.x;
     for (const gpu::Material& m : scene_.materials) constants[1] |= m.coefs1.y > 0.0f ? 1u : 0u;
     const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
-                                                  {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)}};
-    vk::SpecializationInfo specialization{.mapEntryCount = 2, .pMapEntries = entries,
+                                                  {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
+                                                  {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo specialization{.mapEntryCount = 3, .pMapEntries = entries,
                                           .dataSize = sizeof(constants), .pData = constants.data()};
     std::vector<uint32_t> variant = profilingShaderVariant();
     pipeline_ = createComputePipeline(ctx, variant.empty() ? std::span<const uint32_t>(kWhittedCompSpv) : variant,

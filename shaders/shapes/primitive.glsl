@@ -8,7 +8,7 @@
 #include "triangle.glsl"
 #include "box.glsl"
 
-// The shapes the scene holds, one bit per shape tag: a specialization
+// The shapes in the scene's BVH, one bit per shape tag: a specialization
 // constant set by the renderer (all shapes by default). On a SIMD CPU
 // driver such as lavapipe a branch is not skipped, its lanes are masked off,
 // so every shape function in this dispatch costs on every primitive test
