@@ -188,6 +188,7 @@ def plot(results, previous, path):
         if p:
             top.text(i, max(o, p) * 1.15, f"{p / o:.1f}x", ha="center", fontsize=8)
     top.set_yscale("log")
+    top.set_ylim(top=max(ours + [p or 0 for p in pov]) * 4)  # room for the ratio labels
     top.set_ylabel("seconds, whole process (log)")
     top.set_title("whitted on " + (results[0]["whitted"]["device"] if results else "?") +
                   " vs POV-Ray: label = POV-Ray time / whitted time")

@@ -65,6 +65,9 @@ int runRenderCommand(const RenderCommandOptions& options) {
     ProgressBar bar("rendering", !options.quiet);
     RenderResult result = renderer.render([&](double f) { bar.update(f); });
     bar.finish();
+    if (result.lostSamples > 0)
+        std::cerr << "warning: the driver cut " << result.lostSamples
+                  << " camera samples short (lavapipe's loop iteration cap); the image is incomplete there\n";
     if (uint32_t n = ctx.validationMessageCount()) {
         std::cerr << "whitted: the Vulkan validation layer reported " << n << " message(s); no image written\n";
         return kExitValidation;

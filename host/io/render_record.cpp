@@ -67,6 +67,7 @@ std::string renderRecordJson(const RenderRecord& r) {
     getrusage(RUSAGE_SELF, &usage);
     j << "  \"memory_bytes\": {\"device_buffers\": " << res.deviceBytes
       << ", \"peak_rss\": " << uint64_t(usage.ru_maxrss) * 1024 << "},\n";
+    j << "  \"lost_samples\": " << res.lostSamples << ",\n";
     j << "  \"rays\": {\"primary\": " << res.rays.primary << ", \"shadow\": " << res.rays.shadow
       << ", \"secondary\": " << res.rays.secondary << ", \"per_second\": " << double(res.rays.total()) / seconds
       << "},\n";

@@ -24,6 +24,15 @@ double secondsSince(Clock::time_point start) {
 
 constexpr uint32_t kTileSize = 128;
 
+// At most this many samples of a pixel in one dispatch. llvmpipe (lavapipe)
+// caps the loop iterations of one shader run at 65535, counted over ALL its
+// loops together (LP_MAX_TGSI_LOOP_ITERATIONS in Mesa's gallivm), then ends
+// every loop silently: 16 samples of a pixel seen through a lattice of
+// 10,000 spheres overran it and lost whole samples. Fewer samples per
+// dispatch keep each run far below the cap; render() checks the count of
+// camera rays and reports any that are still cut off.
+constexpr uint32_t kMaxSamplesPerInvocation = 4;
+
 // Profiling hook (tools/profile_shader.sh): WHITTED_SHADER_SPV names a
 // SPIR-V file compiled from shaders/whitted.comp with some feature switched
 // off, used instead of the embedded shader. Empty when unset.
@@ -135,6 +144,7 @@ std::vector<Renderer::WorkItem> Renderer::planWork() const {
             uint32_t w = std::min(kTileSize, uint32_t(scene_.width) - x);
             uint32_t h = std::min(kTileSize, uint32_t(scene_.height) - y);
             uint32_t chunk = uint32_t(std::clamp<uint64_t>(std::max<uint64_t>(settings_.samplesPerDispatch, 1) / (uint64_t(w) * h), 1, spp));
+            chunk = std::min(chunk, kMaxSamplesPerInvocation);
             for (uint32_t s = 0; s < spp; s += chunk) {
                 uint32_t n = std::min(chunk, spp - s);
                 items.push_back({.tile = {.tile = glm::uvec4(x, y, w, h), .samples = glm::uvec4(s, n, 0, 0)},
@@ -189,6 +199,8 @@ RenderResult Renderer::render(const ProgressCallback& progress) {
         if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
         ctx_.device.resetFences(*fence);
 
+        uint64_t expected = uint64_t(item.tile.tile.z) * item.tile.tile.w * item.tile.samples.y;
+        if (counters->primary < expected) result.lostSamples += expected - counters->primary;
         result.rays.primary += counters->primary;
         result.rays.shadow += counters->shadow;
         result.rays.secondary += counters->secondary;

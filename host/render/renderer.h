@@ -34,6 +34,9 @@ struct RenderResult {
     double pipelineSeconds = 0;  // shader compilation by the driver
     double renderSeconds = 0;
     uint64_t deviceBytes = 0;  // every buffer the render allocated on the device
+    // Camera samples the driver cut short (a shader run over lavapipe's loop
+    // iteration cap, see renderer.cpp): 0 unless the image is incomplete.
+    uint64_t lostSamples = 0;
 };
 
 // Fraction of the work done so far, in [0, 1].
