@@ -122,6 +122,8 @@ def run_whitted(whitted, scene, out_png, width, height, spp):
         "peak_rss_bytes": rss,
         "device_buffer_bytes": record["memory_bytes"]["device_buffers"],
         "device": record["device"]["name"],
+        # Camera samples the driver cut short (lavapipe's loop iteration cap): must be 0.
+        "lost_samples": record.get("lost_samples", 0),
     }
 
 
@@ -272,6 +274,8 @@ def main():
                 if "povray_over_whitted" in result:
                     ratio = result["povray_over_whitted"]
                     line += f"  POV-Ray/whitted: wall {ratio['wall']:.2f}x, render {ratio['render']:.2f}x"
+            if ours["lost_samples"]:
+                line += f"\n{'':11s} WARNING: {ours['lost_samples']} camera samples lost: the image is incomplete"
             print(line, flush=True)
 
     ratios = {}
@@ -308,6 +312,8 @@ def main():
             reread = json.load(f)
         bad = [f"{r['scene']} {r['size']}: {label} = {value}" for r in reread["results"]
                for label, value in positive_counts(r) if not (isinstance(value, (int, float)) and value > 0)]
+        bad += [f"{r['scene']} {r['size']}: {r['whitted']['lost_samples']} camera samples lost"
+                for r in reread["results"] if r["whitted"]["lost_samples"] != 0]
         if not reread["results"]:
             bad.append("no results")
         if bad:

@@ -33,6 +33,9 @@ constexpr uint32_t kTileSize = 128;
 // camera rays and reports any that are still cut off.
 constexpr uint32_t kMaxSamplesPerInvocation = 4;
 
+// Dispatches recorded into one command buffer and submission.
+constexpr size_t kDispatchesPerSubmit = 4;
+
 // Profiling hook (tools/profile_shader.sh): WHITTED_SHADER_SPV names a
 // SPIR-V file compiled from shaders/whitted.comp with some feature switched
 // off, used instead of the embedded shader. Empty when unset.
@@ -173,20 +176,29 @@ RenderResult Renderer::render(const ProgressCallback& progress) {
     vk::raii::Fence fence(ctx_.device, vk::FenceCreateInfo{});
     auto* counters = static_cast<gpu::RayCounters*>(counters_.mapped);
 
-    for (const WorkItem& item : work) {
+    // Dispatches go to the queue in batches of kDispatchesPerSubmit, each
+    // followed by a barrier (later dispatches may accumulate into the same
+    // pixels); the ray counters are read once per batch.
+    for (size_t begin = 0; begin < work.size(); begin += kDispatchesPerSubmit) {
+        size_t end = std::min(work.size(), begin + kDispatchesPerSubmit);
         *counters = {};
         cmd.reset();
         cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
-        // Earlier dispatches may have accumulated into the same pixels.
-        vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
-                                     .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
-        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
-                            vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
         cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_.pipeline);
         cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipeline_.layout, 0, *descriptorSet_, nullptr);
-        cmd.pushConstants<gpu::TileParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, item.tile);
-        cmd.dispatch((item.tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
-                     (item.tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1);
+        uint64_t expected = 0, batchSamples = 0;
+        for (size_t i = begin; i < end; ++i) {
+            const WorkItem& item = work[i];
+            vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
+                                         .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
+            cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
+                                vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
+            cmd.pushConstants<gpu::TileParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, item.tile);
+            cmd.dispatch((item.tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
+                         (item.tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1);
+            expected += uint64_t(item.tile.tile.z) * item.tile.tile.w * item.tile.samples.y;
+            batchSamples += item.samples;
+        }
         vk::MemoryBarrier toHost{.srcAccessMask = vk::AccessFlagBits::eShaderWrite,
                                  .dstAccessMask = vk::AccessFlagBits::eHostRead};
         cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {}, toHost,
@@ -199,12 +211,11 @@ RenderResult Renderer::render(const ProgressCallback& progress) {
         if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
         ctx_.device.resetFences(*fence);
 
-        uint64_t expected = uint64_t(item.tile.tile.z) * item.tile.tile.w * item.tile.samples.y;
         if (counters->primary < expected) result.lostSamples += expected - counters->primary;
         result.rays.primary += counters->primary;
         result.rays.shadow += counters->shadow;
         result.rays.secondary += counters->secondary;
-        doneSamples += item.samples;
+        doneSamples += batchSamples;
         if (progress) progress(double(doneSamples) / double(totalSamples));
     }
 
