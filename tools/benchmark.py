@@ -194,7 +194,7 @@ def plot(results, previous, path):
     top.set_ylabel("seconds, whole process (log)")
     top.set_title("whitted on " + (results[0]["whitted"]["device"] if results else "?") +
                   " vs POV-Ray: label = POV-Ray time / whitted time")
-    top.legend(fontsize=8)
+    top.legend(fontsize=8, loc="upper left")
     if any(old):
         bottom.bar([i - width / 2 for i in x], [o["whitted"]["rays_per_s"] / 1e6 if o else 0 for o in old], width,
                    color="#b0c4de", label="previous run")
