@@ -66,6 +66,11 @@ WHITTED_CONST uint kMaxDepthLimit = kRayStackSize - 2;
 // to fit.
 WHITTED_CONST uint kBvhStackSize = 48;
 
+// Specialization constant ids (shaders/shapes/primitive.glsl, intersect.glsl).
+WHITTED_CONST uint kSpecShapeMask = 0;     // bit (1 << kShape*) set: the BVH holds that shape
+WHITTED_CONST uint kSpecTransparency = 1;  // nonzero: some material has kt > 0
+WHITTED_CONST uint kSpecListShapeMask = 2; // as kSpecShapeMask, for the primitives outside the BVH
+
 // FrameParams.options.z bit flags.
 WHITTED_CONST uint kOptionWriteAovs = 1u;
 

@@ -25,72 +25,169 @@ vec3 safeInverse(vec3 d) {
     return 1.0 / mix(d, vec3(1e-30) * sign(d + vec3(1e-37)), lessThan(abs(d), vec3(1e-30)));
 }
 
+// Whether any material is transparent (kt > 0): a specialization constant
+// set by the renderer. Without transparency a shadow ray is an any-hit
+// query and the material lookups of filterThrough compile out.
+layout(constant_id = kSpecTransparency) const bool kSceneHasTransparency = true;
+
+// The shapes among the unbounded primitives (planes; every primitive when
+// there is no BVH), a specialization constant like kShapeMask (which covers
+// the primitives in the BVH).
+layout(constant_id = kSpecListShapeMask) const uint kListShapeMask = 0x1fu;
+
+// intersectPrimitive on primitives[i] for a scene whose shapes are `mask`,
+// loading only the words the shape uses (lavapipe gathers each loaded word
+// lane by lane: a whole Primitive is sixteen, a sphere four); with one
+// shape in the mask not even the tag is read.
+bool intersectPrimitiveAt(uint i, const uint mask, Ray ray, float tMin, inout float tHit, out vec3 normal) {
+    normal = vec3(0.0);
+    bool single = bitCount(mask) == 1;
+    uint tag = single ? findLSB(mask) : primitives[i].info.x;
+    if ((mask & (1u << kShapeSphere)) != 0u && tag == kShapeSphere) {
+        vec4 a = primitives[i].a;
+        return intersectSphere(a.xyz, a.w, ray, tMin, tHit, normal);
+    }
+    if ((mask & (1u << kShapeCylinder)) != 0u && tag == kShapeCylinder) {
+        vec4 a = primitives[i].a, b = primitives[i].b;
+        return intersectCylinder(a.xyz, b.xyz, a.w, b.w, ray, tMin, tHit, normal);
+    }
+    if ((mask & (1u << kShapePlane)) != 0u && tag == kShapePlane)
+        return intersectPlane(primitives[i].a.xyz, primitives[i].b.xyz, ray, tMin, tHit, normal);
+    if ((mask & (1u << kShapeTriangle)) != 0u && tag == kShapeTriangle)
+        return intersectTriangle(primitives[i].a.xyz, primitives[i].b.xyz, primitives[i].c.xyz, ray, tMin, tHit,
+                                 normal);
+    if ((mask & (1u << kShapeBox)) != 0u && tag == kShapeBox)
+        return intersectBox(primitives[i].a.xyz, primitives[i].b.xyz, ray, tMin, tHit, normal);
+    return false;
+}
+
+// Tests primitive i for either query. Closest hit (shadow = false): updates
+// hit. Shadow ray: filters transmittance by a crossing of a transparent
+// surface, sets blocked at an opaque one. A primitive is convex or flat, so
+// after a first crossing a shadow ray tests it once more from there
+// (tFrom). Returns whether the next primitive is due.
+bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shadow, inout Hit hit,
+                   inout vec3 transmittance, inout float tFrom, inout bool blocked) {
+    vec3 n;
+    if (!shadow) {
+        if (intersectPrimitiveAt(i, mask, ray, 0.0, hit.t, n)) {
+            hit.normal = n;
+            hit.primitive = i;
+        }
+        return true;
+    }
+    float t = tMax;
+    bool crossed = intersectPrimitiveAt(i, mask, ray, tFrom, t, n);
+    if (crossed) {
+        if (!kSceneHasTransparency) {
+            blocked = true;
+            return true;
+        }
+        Material m = materials[primitives[i].info.y];
+        float kt = m.coefs1.y;
+        if (kt <= 0.0) blocked = true;
+        else transmittance *= kt * mix(vec3(1.0), m.diffuse.rgb, m.coefs0.y);
+    }
+    if (crossed && tFrom == 0.0) {
+        tFrom = t;
+        return false;
+    }
+    tFrom = 0.0;
+    return true;
+}
+
+// One routine serves both queries (`shadow` is a constant at each call, so
+// the other query's code folds away). The unbounded primitives come first,
+// one by one: a near plane then culls the BVH for closest hits. The BVH
+// loop is flat ("if-if" in Aila and Laine's terms): every iteration first
+// takes one traversal step if the lane has no leaf primitive left to test,
+// then tests at most one primitive. A SIMD CPU driver (lavapipe) runs both
+// halves for all lanes under masks anyway, so an iteration costs one node
+// step plus one primitive test and the iteration count is the most work any
+// lane has, where nested loops pay each inner loop's body at least once per
+// outer iteration. Stack entries are the index of an inner node's first
+// child (its children are tested next) or kLeafEntry | the leaf's index.
+// Returns false when a shadow ray is blocked.
+const uint kLeafEntry = 0x80000000u;
+const uint kNoEntry = 0xffffffffu;
+
+uint entryOf(BvhNode node, uint index) {
+    return floatBitsToUint(node.hi.w) > 0u ? (kLeafEntry | index) : floatBitsToUint(node.lo.w);
+}
+
+bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance) {
+    float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
+    bool blocked = false;
+    if (kListShapeMask != 0u) {
+        uint i = params.accel.y, end = params.accel.y + params.accel.z;
+        while (i < end) {
+            if (testPrimitive(i, kListShapeMask, ray, tMax, shadow, hit, transmittance, tFrom, blocked)) ++i;
+            if (blocked) return false;
+        }
+    }
+    if (kShapeMask == 0u || params.accel.x == 0u) return true;
+
+    vec3 invDir = safeInverse(ray.dir);
+    uint stack[kBvhStackSize];
+    int top = 0;
+    uint children = kNoEntry;  // first child of the inner node to expand next
+    uint prim = 0u, primEnd = 0u;
+    if (intersectNodeBounds(bvhNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0)
+        stack[top++] = entryOf(bvhNodes[0], 0u);
+
+    bool running = true;
+    while (running) {
+        if (prim >= primEnd) {
+            // Traversal step: expand the inner node (nearer child first for
+            // closest hits, the farther one pushed) or pop.
+            float tLimit = shadow ? tMax : hit.t;
+            uint entry = kNoEntry;
+            if (children != kNoEntry) {
+                BvhNode left = bvhNodes[children], right = bvhNodes[children + 1u];
+                float tLeft = intersectNodeBounds(left, ray.origin, invDir, tLimit);
+                float tRight = intersectNodeBounds(right, ray.origin, invDir, tLimit);
+                uint leftEntry = entryOf(left, children), rightEntry = entryOf(right, children + 1u);
+                if (tLeft >= 0.0 && tRight >= 0.0) {
+                    bool leftFirst = shadow || tLeft <= tRight;
+                    stack[top++] = leftFirst ? rightEntry : leftEntry;
+                    entry = leftFirst ? leftEntry : rightEntry;
+                } else if (tLeft >= 0.0) {
+                    entry = leftEntry;
+                } else if (tRight >= 0.0) {
+                    entry = rightEntry;
+                }
+            }
+            if (entry == kNoEntry && top > 0) entry = stack[--top];
+            children = kNoEntry;
+            if (entry == kNoEntry) {
+                running = false;
+            } else if ((entry & kLeafEntry) != 0u) {
+                // Only the two words needed: a whole node would be a
+                // gather of eight per lane.
+                uint leaf = entry & ~kLeafEntry;
+                prim = floatBitsToUint(bvhNodes[leaf].lo.w);
+                primEnd = prim + floatBitsToUint(bvhNodes[leaf].hi.w);
+            } else {
+                children = entry;
+            }
+        }
+        if (prim < primEnd) {
+            if (testPrimitive(prim, kShapeMask, ray, tMax, shadow, hit, transmittance, tFrom, blocked)) ++prim;
+            if (blocked) return false;
+            running = true;
+        }
+    }
+    return true;
+}
+
 // Nearest hit in (0, tMax).
 bool traceClosest(Ray ray, float tMax, out Hit hit) {
     hit.t = tMax;
     hit.normal = vec3(0.0);
     hit.primitive = 0xffffffffu;
-    vec3 n;
-
-    if (params.accel.x > 0u) {
-        vec3 invDir = safeInverse(ray.dir);
-        uint stack[kBvhStackSize];
-        int top = 0;
-        uint node = 0u;
-        bool traversing = intersectNodeBounds(bvhNodes[0], ray.origin, invDir, hit.t) >= 0.0;
-        while (traversing) {
-            BvhNode current = bvhNodes[node];
-            uint count = floatBitsToUint(current.hi.w);
-            uint first = floatBitsToUint(current.lo.w);
-            if (count > 0u) {
-                for (uint i = first; i < first + count; ++i)
-                    if (intersectPrimitive(primitives[i], ray, 0.0, hit.t, n)) {
-                        hit.normal = n;
-                        hit.primitive = i;
-                    }
-            } else {
-                float tLeft = intersectNodeBounds(bvhNodes[first], ray.origin, invDir, hit.t);
-                float tRight = intersectNodeBounds(bvhNodes[first + 1u], ray.origin, invDir, hit.t);
-                if (tLeft >= 0.0 && tRight >= 0.0) {
-                    bool leftFirst = tLeft <= tRight;
-                    stack[top++] = leftFirst ? first + 1u : first;
-                    node = leftFirst ? first : first + 1u;
-                    continue;
-                }
-                if (tLeft >= 0.0) { node = first; continue; }
-                if (tRight >= 0.0) { node = first + 1u; continue; }
-            }
-            traversing = top > 0;
-            if (traversing) node = stack[--top];
-        }
-    }
-
-    uint end = params.accel.y + params.accel.z;
-    for (uint i = params.accel.y; i < end; ++i)
-        if (intersectPrimitive(primitives[i], ray, 0.0, hit.t, n)) {
-            hit.normal = n;
-            hit.primitive = i;
-        }
+    vec3 unused = vec3(1.0);
+    traverseScene(ray, tMax, false, hit, unused);
     return hit.primitive != 0xffffffffu;
-}
-
-// Filters `transmittance` by every crossing of primitive i's surface in
-// (0, tMax); returns false once an opaque surface blocks the ray.
-bool filterThrough(uint i, Ray ray, float tMax, inout vec3 transmittance) {
-    Primitive prim = primitives[i];
-    float tFrom = 0.0;
-    // A primitive is convex or flat: at most two crossings.
-    for (int crossing = 0; crossing < 2; ++crossing) {
-        float t = tMax;
-        vec3 n;
-        if (!intersectPrimitive(prim, ray, tFrom, t, n)) break;
-        Material m = materials[prim.info.y];
-        float kt = m.coefs1.y;
-        if (kt <= 0.0) return false;
-        transmittance *= kt * mix(vec3(1.0), m.diffuse.rgb, m.coefs0.y);
-        tFrom = t;
-    }
-    return true;
 }
 
 // Light that reaches the end of a shadow ray of length tMax. An opaque
@@ -101,29 +198,10 @@ bool filterThrough(uint i, Ray ray, float tMax, inout vec3 transmittance) {
 // depend on the order, so the BVH is walked without sorting and the walk
 // ends at the first opaque hit.
 vec3 shadowTransmittance(Ray ray, float tMax) {
+    Hit unused;
+    unused.t = tMax;
     vec3 transmittance = vec3(1.0);
-    if (params.accel.x > 0u) {
-        vec3 invDir = safeInverse(ray.dir);
-        uint stack[kBvhStackSize];
-        int top = 0;
-        if (intersectNodeBounds(bvhNodes[0], ray.origin, invDir, tMax) >= 0.0) stack[top++] = 0u;
-        while (top > 0) {
-            BvhNode current = bvhNodes[stack[--top]];
-            uint count = floatBitsToUint(current.hi.w);
-            uint first = floatBitsToUint(current.lo.w);
-            if (count > 0u) {
-                for (uint i = first; i < first + count; ++i)
-                    if (!filterThrough(i, ray, tMax, transmittance)) return vec3(0.0);
-            } else {
-                if (intersectNodeBounds(bvhNodes[first], ray.origin, invDir, tMax) >= 0.0) stack[top++] = first;
-                if (intersectNodeBounds(bvhNodes[first + 1u], ray.origin, invDir, tMax) >= 0.0) stack[top++] = first + 1u;
-            }
-        }
-    }
-    uint end = params.accel.y + params.accel.z;
-    for (uint i = params.accel.y; i < end; ++i)
-        if (!filterThrough(i, ray, tMax, transmittance)) return vec3(0.0);
-    return transmittance;
+    return traverseScene(ray, tMax, true, unused, transmittance) ? transmittance : vec3(0.0);
 }
 
 #endif

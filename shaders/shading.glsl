@@ -30,7 +30,11 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
         float nDotL = dot(n, l);
         if (nDotL <= 0.0 || dot(ng, l) <= 0.0 || (kd <= 0.0 && ks <= 0.0)) continue;
         s.shadowRays += 1u;
+#ifdef WHITTED_PROFILE_NO_SHADOWS  // tools/profile_shader.sh: what shadow rays cost
+        vec3 visibility = vec3(1.0);
+#else
         vec3 visibility = shadowTransmittance(Ray(p, l), dist);
+#endif
         if (all(equal(visibility, vec3(0.0)))) continue;
         vec3 light = visibility * lights[i].color.rgb;
         s.diffuse += light * kd * m.diffuse.rgb * nDotL;

@@ -27,13 +27,29 @@ struct SampleResult {
     vec4 coefs1;         // kr, kt, ior, hit
 };
 
-void traceSample(Ray cameraRay, inout SampleResult result, inout uvec3 rayCount) {
+// Traces samples [first, end) of a pixel in ONE loop: when a sample's ray
+// tree is done, the next sample's camera ray enters the stack in the same
+// iteration. Lanes run in lockstep on a SIMD CPU driver (lavapipe), so a
+// loop per sample would make every lane wait for the longest ray tree of
+// each sample; with one loop a lane waits only at the end. Each lane still
+// adds its own samples in order, so the sums are unchanged.
+void traceSamples(uvec2 pixel, uint first, uint end, uint pixelSeed, inout SampleResult result,
+                  inout uvec3 rayCount) {
     PendingRay stack[kRayStackSize];
     int top = 0;
-    stack[top++] = PendingRay(cameraRay, vec3(1.0), 0u, 0u);
     uint maxDepth = params.options.y;
+    uint nextSample = first;
+    vec2 size = vec2(params.sizes.xy);
 
-    while (top > 0) {
+    while (top > 0 || nextSample < end) {
+        if (top == 0) {
+            vec2 offset = pixelSampleOffset(nextSample, params.options.x, pixelSeed);
+            Ray ray = generateCameraRay(vec2(pixel) + offset, size, params.eye.xyz, params.forward.xyz,
+                                        params.right.xyz, params.up.xyz);
+            stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u);
+            rayCount.x += 1u;
+            ++nextSample;
+        }
         PendingRay pending = stack[--top];
         Ray ray = pending.ray;
         if (pending.depth > 0u) rayCount.z += 1u;
@@ -116,13 +132,7 @@ void main() {
 
     uint first = tileParams.samples.x;
     uint count = tileParams.samples.y;
-    for (uint s = first; s < first + count; ++s) {
-        vec2 offset = pixelSampleOffset(s, params.options.x, pixelSeed);
-        Ray ray = generateCameraRay(vec2(pixel) + offset, vec2(width, height), params.eye.xyz,
-                                    params.forward.xyz, params.right.xyz, params.up.xyz);
-        rayCount.x += 1u;
-        traceSample(ray, result, rayCount);
-    }
+    traceSamples(pixel, first, first + count, pixelSeed, result, rayCount);
 
     // Accumulate sums; the host divides by the sample count.
     uint pixels = width * height;

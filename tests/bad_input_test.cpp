@@ -258,7 +258,7 @@ TEST_P(LegalSceneTest, RendersWithAWarning) {
     std::vector<std::string> expected;
     for (std::string w : c.warnings) expected.push_back("warning: " + w.replace(0, 4, scene.string()));
     EXPECT_EQ(warnings, expected) << r.err;
-    EXPECT_EQ(contentsOf(dir), std::set<std::string>{"out.png"});
+    EXPECT_EQ(contentsOf(dir), (std::set<std::string>{"out.json", "out.png"}));  // the image and its record
 }
 
 INSTANTIATE_TEST_SUITE_P(

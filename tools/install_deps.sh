@@ -10,6 +10,7 @@ packages=(
   libglfw3-dev libglm-dev libtinyxml2-dev libopenimageio-dev openimageio-tools
   libgtest-dev libcli11-dev
   povray xvfb xauth
+  python3-matplotlib
   clang-14 libfuzzer-14-dev libclang-rt-14-dev
   libassimp-dev
   libimgui-dev xdotool

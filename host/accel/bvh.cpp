@@ -23,18 +23,26 @@ struct BuildNode {
     std::unique_ptr<BuildNode> left, right;
 };
 
+// A primitive's bounds, centroid and input index, kept together and
+// partitioned in place so every pass reads memory in order (an index array
+// into the input bounds made each pass a random gather: half the build time
+// of a 1M-triangle mesh).
+struct PrimitiveRef {
+    Aabb bounds;
+    glm::vec3 centroid;
+    uint32_t index;
+};
+
 struct Builder {
-    std::span<const Aabb> bounds;
-    std::vector<glm::vec3> centroids;
-    std::vector<uint32_t> order;
+    std::vector<PrimitiveRef> refs;
     std::atomic<int> freeThreads{0};
 
     std::unique_ptr<BuildNode> build(uint32_t first, uint32_t count, uint32_t depth) {
         auto node = std::make_unique<BuildNode>();
         Aabb centroidBounds;
         for (uint32_t i = first; i < first + count; ++i) {
-            node->bounds.extend(bounds[order[i]]);
-            centroidBounds.extend(centroids[order[i]]);
+            node->bounds.extend(refs[i].bounds);
+            centroidBounds.extend(refs[i].centroid);
         }
         node->first = first;
         node->count = count;
@@ -44,16 +52,23 @@ struct Builder {
         float bestCost = std::numeric_limits<float>::infinity();
         int bestAxis = -1, bestSplit = 0;
         glm::vec3 extent = centroidBounds.max - centroidBounds.min;
+        // One pass bins the primitives along all three axes at once.
+        Aabb bins[3][kBins];
+        uint32_t binCounts[3][kBins] = {};
+        glm::vec3 scales = glm::vec3(float(kBins)) / extent;
+        for (uint32_t i = first; i < first + count; ++i) {
+            glm::vec3 rel = (refs[i].centroid - centroidBounds.min) * scales;
+            for (int axis = 0; axis < 3; ++axis) {
+                if (!(extent[axis] > 0)) continue;
+                int b = std::min(kBins - 1, int(rel[axis]));
+                bins[axis][b].extend(refs[i].bounds);
+                ++binCounts[axis][b];
+            }
+        }
         for (int axis = 0; axis < 3; ++axis) {
             if (!(extent[axis] > 0)) continue;
-            Aabb binBounds[kBins];
-            uint32_t binCount[kBins] = {};
-            float scale = kBins / extent[axis];
-            for (uint32_t i = first; i < first + count; ++i) {
-                int b = std::min(kBins - 1, int((centroids[order[i]][axis] - centroidBounds.min[axis]) * scale));
-                binBounds[b].extend(bounds[order[i]]);
-                ++binCount[b];
-            }
+            const Aabb* binBounds = bins[axis];
+            const uint32_t* binCount = binCounts[axis];
             // Sweep from the right to get suffix areas, then from the left.
             float rightArea[kBins];
             uint32_t rightCount[kBins];
@@ -86,11 +101,11 @@ struct Builder {
 
         // Partition by bin.
         float scale = kBins / extent[bestAxis];
-        auto mid = std::partition(order.begin() + first, order.begin() + first + count, [&](uint32_t p) {
-            int b = std::min(kBins - 1, int((centroids[p][bestAxis] - centroidBounds.min[bestAxis]) * scale));
+        auto mid = std::partition(refs.begin() + first, refs.begin() + first + count, [&](const PrimitiveRef& p) {
+            int b = std::min(kBins - 1, int((p.centroid[bestAxis] - centroidBounds.min[bestAxis]) * scale));
             return b <= bestSplit;
         });
-        uint32_t leftCount = uint32_t(mid - (order.begin() + first));
+        uint32_t leftCount = uint32_t(mid - (refs.begin() + first));
         if (leftCount == 0 || leftCount == count) return node;
 
         // Large subtrees are built in parallel while threads are free.
@@ -155,13 +170,8 @@ Bvh buildBvh(std::span<const Aabb> bounds, unsigned threads) {
     Bvh bvh;
     if (bounds.empty()) return bvh;
     Builder builder;
-    builder.bounds = bounds;
-    builder.centroids.resize(bounds.size());
-    builder.order.resize(bounds.size());
-    for (uint32_t i = 0; i < bounds.size(); ++i) {
-        builder.centroids[i] = bounds[i].center();
-        builder.order[i] = i;
-    }
+    builder.refs.resize(bounds.size());
+    for (uint32_t i = 0; i < bounds.size(); ++i) builder.refs[i] = {bounds[i], bounds[i].center(), i};
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     builder.freeThreads = int(threads) - 1;
     std::unique_ptr<BuildNode> root = builder.build(0, uint32_t(bounds.size()), 0);
@@ -169,7 +179,8 @@ Bvh buildBvh(std::span<const Aabb> bounds, unsigned threads) {
     bvh.nodes.reserve(2 * bounds.size());
     bvh.nodes.resize(1);
     flatten(*root, 0, 0, bvh);
-    bvh.primitiveOrder = std::move(builder.order);
+    bvh.primitiveOrder.resize(bounds.size());
+    for (uint32_t i = 0; i < bounds.size(); ++i) bvh.primitiveOrder[i] = builder.refs[i].index;
     bvh.stats.nodeCount = uint32_t(bvh.nodes.size());
     bvh.stats.sahCost = sahCost(bvh);
     bvh.stats.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

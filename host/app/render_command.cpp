@@ -65,6 +65,9 @@ int runRenderCommand(const RenderCommandOptions& options) {
     ProgressBar bar("rendering", !options.quiet);
     RenderResult result = renderer.render([&](double f) { bar.update(f); });
     bar.finish();
+    if (result.lostSamples > 0)
+        std::cerr << "warning: the driver cut " << result.lostSamples
+                  << " camera samples short (lavapipe's loop iteration cap); the image is incomplete there\n";
     if (uint32_t n = ctx.validationMessageCount()) {
         std::cerr << "whitted: the Vulkan validation layer reported " << n << " message(s); no image written\n";
         return kExitValidation;
@@ -76,6 +79,12 @@ int runRenderCommand(const RenderCommandOptions& options) {
     if (options.output) {
         files = writeRenderImages(result, *options.output, aovs, options.tonemap);
         shown = *options.output;
+        // The record goes beside the image: out.png -> out.json.
+        std::filesystem::path recordPath = *options.output;
+        recordPath.replace_extension(".json");
+        RenderRecord record{.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
+                            .device = ctx.deviceInfo(), .result = &result, .files = files, .loadSeconds = loadSeconds};
+        writeTextFile(recordPath, renderRecordJson(record));
     } else {
         std::filesystem::path staging = beginHistoryFolder(options.historyRoot);
         try {
@@ -83,7 +92,8 @@ int runRenderCommand(const RenderCommandOptions& options) {
             std::filesystem::copy_file(options.scene, staging / "scene.xml");
             files.push_back(staging / "scene.xml");
             RenderRecord record{.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
-                                .device = ctx.deviceInfo(), .result = &result, .files = files};
+                                .device = ctx.deviceInfo(), .result = &result, .files = files,
+                                .loadSeconds = loadSeconds};
             writeTextFile(staging / "render.json", renderRecordJson(record));
         } catch (...) {
             std::filesystem::remove_all(staging);

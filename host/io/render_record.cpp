@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <sys/resource.h>
 #include <unistd.h>
 
 namespace whitted {
@@ -56,7 +57,17 @@ std::string renderRecordJson(const RenderRecord& r) {
       << ", \"tonemap\": " << jsonString(r.tonemap) << "},\n";
     j << "  \"device\": {\"name\": " << jsonString(r.device.name) << ", \"type\": " << jsonString(r.device.type)
       << ", \"driver\": " << jsonString(r.device.driver) << "},\n";
-    j << "  \"timings_s\": {\"upload\": " << res.uploadSeconds << ", \"render\": " << res.renderSeconds << "},\n";
+    j << "  \"timings_s\": {\"load\": " << r.loadSeconds << ", \"bvh_build\": " << res.bvh.buildSeconds
+      << ", \"pipeline\": " << res.pipelineSeconds << ", \"upload\": " << res.uploadSeconds
+      << ", \"render\": " << res.renderSeconds << "},\n";
+    j << "  \"bvh\": {\"nodes\": " << res.bvh.nodeCount << ", \"leaves\": " << res.bvh.leafCount
+      << ", \"max_depth\": " << res.bvh.maxDepth << ", \"sah_cost\": " << res.bvh.sahCost << "},\n";
+    // Peak resident memory of this process so far (Linux reports KiB).
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    j << "  \"memory_bytes\": {\"device_buffers\": " << res.deviceBytes
+      << ", \"peak_rss\": " << uint64_t(usage.ru_maxrss) * 1024 << "},\n";
+    j << "  \"lost_samples\": " << res.lostSamples << ",\n";
     j << "  \"rays\": {\"primary\": " << res.rays.primary << ", \"shadow\": " << res.rays.shadow
       << ", \"secondary\": " << res.rays.secondary << ", \"per_second\": " << double(res.rays.total()) / seconds
       << "},\n";

@@ -19,6 +19,7 @@ struct RenderRecord {
     DeviceInfo device;
     const RenderResult* result = nullptr;
     std::vector<std::filesystem::path> files;
+    double loadSeconds = 0;  // reading and checking the scene file
 };
 
 // The record as JSON text.

@@ -6,8 +6,13 @@
 
 #include "whitted_comp.h"  // kWhittedCompSpv, generated from shaders/whitted.comp
 
+#include <array>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -20,6 +25,34 @@ double secondsSince(Clock::time_point start) {
 }
 
 constexpr uint32_t kTileSize = 128;
+
+// At most this many samples of a pixel in one dispatch. llvmpipe (lavapipe)
+// caps the loop iterations of one shader run at 65535, counted over ALL its
+// loops together (LP_MAX_TGSI_LOOP_ITERATIONS in Mesa's gallivm), then ends
+// every loop silently: 16 samples of a pixel seen through a lattice of
+// 10,000 spheres overran it and lost whole samples. Fewer samples per
+// dispatch keep each run far below the cap; render() checks the count of
+// camera rays and reports any that are still cut off.
+constexpr uint32_t kMaxSamplesPerInvocation = 4;
+
+// Dispatches recorded into one command buffer and submission.
+constexpr size_t kDispatchesPerSubmit = 4;
+
+// Profiling hook (tools/profile_shader.sh): WHITTED_SHADER_SPV names a
+// SPIR-V file compiled from shaders/whitted.comp with some feature switched
+// off, used instead of the embedded shader. Empty when unset.
+std::vector<uint32_t> profilingShaderVariant() {
+    const char* path = std::getenv("WHITTED_SHADER_SPV");
+    if (!path || !*path) return {};
+    std::ifstream in(path, std::ios::binary);
+    std::vector<char> bytes((std::istreambuf_iterator<char>(in)), {});
+    if (!in.good() && !in.eof()) throw std::runtime_error(std::string(path) + ": cannot read WHITTED_SHADER_SPV");
+    if (bytes.empty() || bytes.size() % 4 != 0)
+        throw std::runtime_error(std::string(path) + ": WHITTED_SHADER_SPV is not a SPIR-V file");
+    std::vector<uint32_t> words(bytes.size() / 4);
+    std::memcpy(words.data(), bytes.data(), bytes.size());
+    return words;
+}
 
 constexpr vk::BufferUsageFlags kStorage = vk::BufferUsageFlagBits::eStorageBuffer;
 
@@ -40,11 +73,27 @@ const Scene& checkPrimitivesFit(const VulkanContext& ctx, const Scene& scene) {
     return scene;
 }
 
+
+// Specialization constants for a packed scene: the shapes in the BVH, any
+// transparency, the shapes outside it (planes). What a scene lacks compiles
+// out (on lavapipe every branch costs, taken or not: shaders/shapes/primitive.glsl).
+std::array<uint32_t, 3> specializationFor(const GpuScene& scene) {
+    std::array<uint32_t, 3> constants = {0u, 0u, 0u};
+    for (size_t i = 0; i < scene.primitives.size(); ++i)
+        constants[i < scene.params.accel.y ? 0 : 2] |= 1u << scene.primitives[i].info.x;
+    for (const gpu::Material& m : scene.materials) constants[1] |= m.coefs1.y > 0.0f ? 1u : 0u;
+    return constants;
+}
+
+constexpr vk::DescriptorType kBindingTypes[] = {
+    vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
+    vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
+    vk::DescriptorType::eStorageBuffer};
+
 }  // namespace
 
 Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings& settings)
     : ctx_(ctx), settings_(settings), scene_(packScene(checkPrimitivesFit(ctx, scene), settings)) {
-    auto start = Clock::now();
     if (scene_.width < 1 || scene_.height < 1 || scene_.width > 16384 || scene_.height > 16384)
         throw std::runtime_error("image size " + std::to_string(scene_.width) + "x" + std::to_string(scene_.height) +
                                  " is outside 1..16384");
@@ -64,12 +113,6 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
                                  " MiB, more than this device's storage buffer limit of " +
                                  std::to_string(maxRange >> 20) + " MiB; render smaller or with --aov none");
 
-    const vk::DescriptorType bindingTypes[] = {
-        vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
-        vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
-        vk::DescriptorType::eStorageBuffer};
-    pipeline_ = createComputePipeline(ctx, kWhittedCompSpv, bindingTypes, sizeof(gpu::TileParams));
-
     auto hostVisible = vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent;
     params_ = createBuffer(ctx, sizeof(gpu::FrameParams), vk::BufferUsageFlagBits::eUniformBuffer, hostVisible);
     output_ = createDeviceBuffer(ctx, nullptr, outputSize, kStorage | vk::BufferUsageFlagBits::eTransferSrc);
@@ -78,19 +121,33 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     descriptorPool_ = vk::raii::DescriptorPool(
         ctx.device, vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
                                                  .maxSets = 1, .poolSizeCount = 2, .pPoolSizes = poolSizes});
-    vk::DescriptorSetLayout setLayout = *pipeline_.setLayout;
-    descriptorSet_ = std::move(vk::raii::DescriptorSets(
-        ctx.device, {.descriptorPool = *descriptorPool_, .descriptorSetCount = 1, .pSetLayouts = &setLayout}).front());
+    buildPipeline();
     uploadScene();
-    uploadSeconds_ = secondsSince(start);
 }
 
-// Scene buffers and the one descriptor set that names them all.
+// The pipeline specialised for scene_, and the one descriptor set (from a
+// pool of one) that uploadScene() fills.
+void Renderer::buildPipeline() {
+    auto start = Clock::now();
+    specialization_ = specializationFor(scene_);
+    const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
+                                                  {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
+                                                  {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo specialization{.mapEntryCount = 3, .pMapEntries = entries,
+                                          .dataSize = sizeof(specialization_), .pData = specialization_.data()};
+    std::vector<uint32_t> variant = profilingShaderVariant();
+    descriptorSet_ = nullptr;  // freed before the layout it was allocated with goes
+    pipeline_ = createComputePipeline(ctx_, variant.empty() ? std::span<const uint32_t>(kWhittedCompSpv) : variant,
+                                      kBindingTypes, sizeof(gpu::TileParams), &specialization);
+    vk::DescriptorSetLayout setLayout = *pipeline_.setLayout;
+    descriptorSet_ = std::move(vk::raii::DescriptorSets(
+        ctx_.device, {.descriptorPool = *descriptorPool_, .descriptorSetCount = 1, .pSetLayouts = &setLayout}).front());
+    pipelineSeconds_ = secondsSince(start);
+}
+
+// Scene buffers, and the descriptor set naming them all.
 void Renderer::uploadScene() {
-    static constexpr vk::DescriptorType bindingTypes[] = {
-        vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
-        vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
-        vk::DescriptorType::eStorageBuffer};
+    auto start = Clock::now();
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
     primitives_ = createDeviceBuffer(ctx_, scene_.primitives.data(), scene_.primitives.size() * sizeof(gpu::Primitive), kStorage);
     materials_ = createDeviceBuffer(ctx_, scene_.materials.data(), scene_.materials.size() * sizeof(gpu::Material), kStorage);
@@ -102,8 +159,11 @@ void Renderer::uploadScene() {
     std::vector<vk::WriteDescriptorSet> writes;
     for (uint32_t i = 0; i < infos.size(); ++i)
         writes.push_back({.dstSet = *descriptorSet_, .dstBinding = i, .descriptorCount = 1,
-                          .descriptorType = bindingTypes[i], .pBufferInfo = &infos[i]});
+                          .descriptorType = kBindingTypes[i], .pBufferInfo = &infos[i]});
     ctx_.device.updateDescriptorSets(writes, nullptr);
+    uploadSeconds_ = secondsSince(start);
+    deviceBytes_ = 0;
+    for (const Buffer* b : buffers) deviceBytes_ += b->size;
 }
 
 void Renderer::setScene(const Scene& scene) {
@@ -111,6 +171,8 @@ void Renderer::setScene(const Scene& scene) {
     settings.width = scene_.width;  // the image size stays
     settings.height = scene_.height;
     scene_ = packScene(checkPrimitivesFit(ctx_, scene), settings);
+    // A shape or glass the old scene lacked needs the pipeline that has it.
+    if (specializationFor(scene_) != specialization_) buildPipeline();
     uploadScene();
 }
 
@@ -136,16 +198,23 @@ void Renderer::recordClear(const vk::raii::CommandBuffer& cmd) const {
     cmd.fillBuffer(*output_.buffer, 0, VK_WHOLE_SIZE, 0);
 }
 
+// One dispatch per kMaxSamplesPerInvocation samples of the range (lavapipe's
+// loop cap, see above), each after a barrier on the ones before.
 void Renderer::recordTile(const vk::raii::CommandBuffer& cmd, const gpu::TileParams& tile) const {
-    vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
-                                 .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
-    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
-                        vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
     cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_.pipeline);
     cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipeline_.layout, 0, *descriptorSet_, nullptr);
-    cmd.pushConstants<gpu::TileParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, tile);
-    cmd.dispatch((tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
-                 (tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1);
+    for (uint32_t done = 0; done < tile.samples.y; done += kMaxSamplesPerInvocation) {
+        gpu::TileParams part = tile;
+        part.samples.x = tile.samples.x + done;
+        part.samples.y = std::min(kMaxSamplesPerInvocation, tile.samples.y - done);
+        vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
+                                     .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
+        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
+                            vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
+        cmd.pushConstants<gpu::TileParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, part);
+        cmd.dispatch((tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
+                     (tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1);
+    }
 }
 
 RenderResult Renderer::readMeans() const {
@@ -183,6 +252,7 @@ std::vector<Renderer::WorkItem> Renderer::planWork() const {
             uint32_t w = std::min(kTileSize, uint32_t(scene_.width) - x);
             uint32_t h = std::min(kTileSize, uint32_t(scene_.height) - y);
             uint32_t chunk = uint32_t(std::clamp<uint64_t>(std::max<uint64_t>(settings_.samplesPerDispatch, 1) / (uint64_t(w) * h), 1, spp));
+            chunk = std::min(chunk, kMaxSamplesPerInvocation);
             for (uint32_t s = 0; s < spp; s += chunk) {
                 uint32_t n = std::min(chunk, spp - s);
                 items.push_back({.tile = {.tile = glm::uvec4(x, y, w, h), .samples = glm::uvec4(s, n, 0, 0)},
@@ -211,20 +281,29 @@ RenderResult Renderer::render(const ProgressCallback& progress) {
     vk::raii::Fence fence(ctx_.device, vk::FenceCreateInfo{});
     auto* counters = static_cast<gpu::RayCounters*>(counters_.mapped);
 
-    for (const WorkItem& item : work) {
+    // Dispatches go to the queue in batches of kDispatchesPerSubmit, each
+    // followed by a barrier (later dispatches may accumulate into the same
+    // pixels); the ray counters are read once per batch.
+    for (size_t begin = 0; begin < work.size(); begin += kDispatchesPerSubmit) {
+        size_t end = std::min(work.size(), begin + kDispatchesPerSubmit);
         *counters = {};
         cmd.reset();
         cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
-        // Earlier dispatches may have accumulated into the same pixels.
-        vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
-                                     .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
-        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
-                            vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
         cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_.pipeline);
         cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipeline_.layout, 0, *descriptorSet_, nullptr);
-        cmd.pushConstants<gpu::TileParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, item.tile);
-        cmd.dispatch((item.tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
-                     (item.tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1);
+        uint64_t expected = 0, batchSamples = 0;
+        for (size_t i = begin; i < end; ++i) {
+            const WorkItem& item = work[i];
+            vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
+                                         .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
+            cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
+                                vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
+            cmd.pushConstants<gpu::TileParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, item.tile);
+            cmd.dispatch((item.tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
+                         (item.tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1);
+            expected += uint64_t(item.tile.tile.z) * item.tile.tile.w * item.tile.samples.y;
+            batchSamples += item.samples;
+        }
         vk::MemoryBarrier toHost{.srcAccessMask = vk::AccessFlagBits::eShaderWrite,
                                  .dstAccessMask = vk::AccessFlagBits::eHostRead};
         cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {}, toHost,
@@ -237,10 +316,11 @@ RenderResult Renderer::render(const ProgressCallback& progress) {
         if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
         ctx_.device.resetFences(*fence);
 
+        if (counters->primary < expected) result.lostSamples += expected - counters->primary;
         result.rays.primary += counters->primary;
         result.rays.shadow += counters->shadow;
         result.rays.secondary += counters->secondary;
-        doneSamples += item.samples;
+        doneSamples += batchSamples;
         if (progress) progress(double(doneSamples) / double(totalSamples));
     }
 
@@ -257,6 +337,8 @@ RenderResult Renderer::render(const ProgressCallback& progress) {
     }
     result.renderSeconds = secondsSince(start);
     result.uploadSeconds = uploadSeconds_;
+    result.pipelineSeconds = pipelineSeconds_;
+    result.deviceBytes = deviceBytes_;
     result.bvh = scene_.bvhStats;
     return result;
 }

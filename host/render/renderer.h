@@ -30,8 +30,13 @@ struct RenderResult {
     std::array<std::vector<float>, gpu::kAovCount> layers;  // only kAovColor without auxiliary
     RayStats rays;
     BvhStats bvh;
-    double uploadSeconds = 0;  // BVH build and buffer uploads
+    double uploadSeconds = 0;  // buffer uploads (the BVH build is bvh.buildSeconds)
+    double pipelineSeconds = 0;  // shader compilation by the driver
     double renderSeconds = 0;
+    uint64_t deviceBytes = 0;  // every buffer the render allocated on the device
+    // Camera samples the driver cut short (a shader run over lavapipe's loop
+    // iteration cap, see renderer.cpp): 0 unless the image is incomplete.
+    uint64_t lostSamples = 0;
 };
 
 // Fraction of the work done so far, in [0, 1].
@@ -45,11 +50,14 @@ public:
     // Progressive use (`whitted view`): the output buffer keeps its sums
     // between calls and the caller records the dispatches into its own
     // command buffers. The device must be idle when the scene is replaced.
-    void setScene(const Scene& scene);     // re-pack and re-upload everything but the pipeline
+    // Re-pack and re-upload the scene; the pipeline is rebuilt when the new
+    // scene needs shapes or transparency the old one compiled out.
+    void setScene(const Scene& scene);
     void setCamera(const Camera& camera);  // rewrites the camera in the uniform block only
     void recordClear(const vk::raii::CommandBuffer& cmd) const;  // zero the sums
     // One dispatch over `tile` (pixels x0, y0, width, height) with samples
-    // [first, first + count) of samplesPerPixel, after a barrier on earlier ones.
+    // [first, first + count) of samplesPerPixel, after a barrier on earlier ones
+    // (split into dispatches of at most 4 samples: lavapipe's loop cap).
     void recordTile(const vk::raii::CommandBuffer& cmd, const gpu::TileParams& tile) const;
     // Reads the sums back as means, each pixel divided by its own sample
     // count (the w of the colour layer), so a partly finished pass reads right.
@@ -67,17 +75,21 @@ private:
         uint64_t samples;  // pixels x samples, for progress
     };
     std::vector<WorkItem> planWork() const;
+    void buildPipeline();
     void uploadScene();
 
     VulkanContext& ctx_;
     RenderSettings settings_;
     GpuScene scene_;
     ComputePipeline pipeline_;
+    std::array<uint32_t, 3> specialization_{};  // what pipeline_ was specialised for
     uint32_t layerCount_;
     Buffer params_, primitives_, materials_, lights_, output_, counters_, bvhNodes_;
     vk::raii::DescriptorPool descriptorPool_{nullptr};
     vk::raii::DescriptorSet descriptorSet_{nullptr};
     double uploadSeconds_ = 0;
+    double pipelineSeconds_ = 0;
+    uint64_t deviceBytes_ = 0;
 };
 
 }  // namespace whitted

@@ -5,7 +5,8 @@
 namespace whitted {
 
 ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv,
-                                      std::span<const vk::DescriptorType> bindings, uint32_t pushConstantSize) {
+                                      std::span<const vk::DescriptorType> bindings, uint32_t pushConstantSize,
+                                      const vk::SpecializationInfo* specialization) {
     ComputePipeline p;
     std::vector<vk::DescriptorSetLayoutBinding> layoutBindings;
     for (uint32_t i = 0; i < bindings.size(); ++i)
@@ -26,7 +27,8 @@ ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const 
                                                                          .pCode = spirv.data()});
     p.pipeline = vk::raii::Pipeline(
         ctx.device, nullptr,
-        vk::ComputePipelineCreateInfo{.stage = {.stage = vk::ShaderStageFlagBits::eCompute, .module = *module, .pName = "main"},
+        vk::ComputePipelineCreateInfo{.stage = {.stage = vk::ShaderStageFlagBits::eCompute, .module = *module, .pName = "main",
+                                                .pSpecializationInfo = specialization},
                                       .layout = *p.layout});
     return p;
 }

@@ -13,8 +13,10 @@ struct ComputePipeline {
     vk::raii::Pipeline pipeline{nullptr};
 };
 
-// `bindings` lists the descriptor type of each binding number 0..n-1.
+// `bindings` lists the descriptor type of each binding number 0..n-1;
+// `specialization` (optional) sets the shader's specialization constants.
 ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv,
-                                      std::span<const vk::DescriptorType> bindings, uint32_t pushConstantSize);
+                                      std::span<const vk::DescriptorType> bindings, uint32_t pushConstantSize,
+                                      const vk::SpecializationInfo* specialization = nullptr);
 
 }  // namespace whitted
