@@ -5,27 +5,15 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
-#include <sys/wait.h>
 
 namespace whitted::test {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandRun {
-    int status;
-    std::string output;  // stdout and stderr together
-};
-
 // Runs the executable with `args` in folder `cwd`.
 CommandRun runWhitted(const std::string& args, const fs::path& cwd = fs::current_path()) {
-    std::string command = "cd '" + cwd.string() + "' && '" WHITTED_EXECUTABLE "' " + args + " 2>&1";
-    FILE* pipe = ::popen(command.c_str(), "r");
-    std::string output;
-    char buf[4096];
-    while (size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
-    int status = ::pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+    return runCommand("'" WHITTED_EXECUTABLE "' " + args, cwd);
 }
 
 // A fresh, empty folder for one test.

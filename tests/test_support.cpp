@@ -2,6 +2,9 @@
 
 #include "scene/scene_loader.h"
 
+#include <cstdio>
+#include <sys/wait.h>
+
 namespace whitted::test {
 
 VulkanContext& testContext() {
@@ -20,6 +23,17 @@ RenderResult renderScene(const Scene& scene, const RenderSettings& settings) {
 
 RenderResult renderXml(const std::string& xml, const RenderSettings& settings) {
     return renderScene(loadSceneFromString(xml, "inline.xml"), settings);
+}
+
+CommandRun runCommand(const std::string& command, const std::filesystem::path& cwd) {
+    std::string full = "cd '" + cwd.string() + "' && " + command + " 2>&1";
+    FILE* pipe = ::popen(full.c_str(), "r");
+    if (!pipe) return {-1, "popen failed: " + command};
+    std::string output;
+    char buf[4096];
+    while (size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
+    int status = ::pclose(pipe);
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 std::filesystem::path sourceDir() { return WHITTED_SOURCE_DIR; }

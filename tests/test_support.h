@@ -20,6 +20,14 @@ VulkanContext& testContext();
 RenderResult renderScene(const Scene& scene, const RenderSettings& settings);
 RenderResult renderXml(const std::string& xml, const RenderSettings& settings);
 
+// Runs `command` through the shell in folder `cwd`: its exit status (-1 if
+// it did not exit normally) and its stdout and stderr together.
+struct CommandRun {
+    int status;
+    std::string output;
+};
+CommandRun runCommand(const std::string& command, const std::filesystem::path& cwd);
+
 std::filesystem::path sourceDir();
 std::filesystem::path outputDir();  // created on demand, for diff images
 

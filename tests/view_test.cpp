@@ -12,7 +12,6 @@
 // Either moves a value across an 8-bit rounding boundary at most, so 1
 // level; a wrong sample count, a missed restart or stale scene data moves
 // whole regions by far more.
-#include <sys/wait.h>
 
 #include <cstdio>
 #include <fstream>
@@ -30,28 +29,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ProcessRun {
-    int status;
-    std::string output;
-};
-
-ProcessRun runShell(const std::string& command, const fs::path& cwd) {
-    std::string full = "cd '" + cwd.string() + "' && " + command + " 2>&1";
-    FILE* pipe = ::popen(full.c_str(), "r");
-    std::string output;
-    char buf[4096];
-    while (size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
-    int status = ::pclose(pipe);
-    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
-
 // The window under its own virtual X server.
-ProcessRun runView(const std::string& args, const fs::path& cwd) {
-    return runShell("xvfb-run -a -s '-screen 0 1024x768x24' '" WHITTED_EXECUTABLE "' view " + args, cwd);
+CommandRun runView(const std::string& args, const fs::path& cwd) {
+    return runCommand("xvfb-run -a -s '-screen 0 1024x768x24' '" WHITTED_EXECUTABLE "' view " + args, cwd);
 }
 
-ProcessRun runRender(const std::string& args, const fs::path& cwd) {
-    return runShell("'" WHITTED_EXECUTABLE "' render -q " + args, cwd);
+CommandRun runRender(const std::string& args, const fs::path& cwd) {
+    return runCommand("'" WHITTED_EXECUTABLE "' render -q " + args, cwd);
 }
 
 fs::path scratchDir(const std::string& name) {
@@ -114,7 +98,7 @@ constexpr const char* kSmall = "--width 160 --height 120 --spp 4";
 
 TEST(View, ScreenshotAfterFramesMatchesRender) {
     fs::path dir = scratchDir("frames");
-    ProcessRun view = runView(room() + " " + kSmall + " --frames 150 --screenshot view.png", dir);
+    CommandRun view = runView(room() + " " + kSmall + " --frames 150 --screenshot view.png", dir);
     ASSERT_EQ(view.status, 0) << view.output;
     EXPECT_NE(view.output.find("closed after 150 frames, 4 spp"), std::string::npos) << view.output;
     ASSERT_EQ(runRender(room() + " " + kSmall + " --aov none -o render.png", dir).status, 0);
@@ -128,7 +112,7 @@ TEST(View, CameraMoveRestartsAccumulation) {
               "spp 4\nscreenshot before.png\n"
               "drag left 60 -20\nspp 4\nscreenshot moved.png\n"
               "key R\nspp 4\nscreenshot reset.png\nquit\n");
-    ProcessRun view = runView(room() + " " + kSmall + " --script script.txt", dir);
+    CommandRun view = runView(room() + " " + kSmall + " --script script.txt", dir);
     ASSERT_EQ(view.status, 0) << view.output;
     // The drag and the reset each restart.
     std::regex restart("restart \\(camera moved\\)");
@@ -158,7 +142,7 @@ TEST(View, FileEditIsPickedUp) {
     writeText(dir / "edited.xml", edited);
     writeText(dir / "script.txt", "spp 4\nscreenshot before.png\nreplace scene.xml " + from + " " + to +
                                       "\nreload\nspp 4\nscreenshot after.png\nquit\n");
-    ProcessRun view = runView("scene.xml " + std::string(kSmall) + " --script script.txt", dir);
+    CommandRun view = runView("scene.xml " + std::string(kSmall) + " --script script.txt", dir);
     ASSERT_EQ(view.status, 0) << view.output;
     std::smatch m;
     ASSERT_TRUE(
@@ -183,7 +167,7 @@ TEST(View, BrokenEditKeepsWindowAndShowsError) {
               "replace scene.xml </lights> </lihgts>\nreload\nframes 2\n"
               "screenshot broken.png\nwindow_screenshot broken_window.png\n"
               "copy good.xml scene.xml\nreload\nframes 2\nwindow_screenshot fixed_window.png\nquit\n");
-    ProcessRun view = runView("scene.xml " + std::string(kSmall) + " --script script.txt", dir);
+    CommandRun view = runView("scene.xml " + std::string(kSmall) + " --script script.txt", dir);
     ASSERT_EQ(view.status, 0) << view.output;
     EXPECT_TRUE(std::regex_search(view.output, std::regex("reload refused: scene\\.xml:\\d+: ")));
     EXPECT_NE(view.output.find("reloaded scene.xml"), std::string::npos) << view.output;
@@ -214,7 +198,7 @@ TEST(View, EditorEditAndSave) {
     writeText(dir / "script.txt",
               "spp 4\nscreenshot before.png\nedit 6 ior 1.0\nspp 4\nscreenshot ior1.png\n"
               "save_scene\nquit\n");
-    ProcessRun view = runView("scene.xml " + std::string(kSmall) + " --script script.txt", dir);
+    CommandRun view = runView("scene.xml " + std::string(kSmall) + " --script script.txt", dir);
     ASSERT_EQ(view.status, 0) << view.output;
     Scene saved = loadScene(dir / "scene.xml");
     ASSERT_EQ(saved.objects.size(), 9u);
@@ -233,7 +217,7 @@ TEST(View, AuxiliaryLayersAndSave) {
     writeText(dir / "script.txt",
               "spp 4\nlayer diffuse\nframes 1\nscreenshot diffuse.png\n"
               "layer normal\nframes 1\nscreenshot normal.png\nsave_images\nquit\n");
-    ProcessRun view = runView(room() + " " + kSmall + " --script script.txt", dir);
+    CommandRun view = runView(room() + " " + kSmall + " --script script.txt", dir);
     ASSERT_EQ(view.status, 0) << view.output;
     ASSERT_EQ(runRender(room() + " " + kSmall + " -o r.png", dir).status, 0);
     EXPECT_LE(compareRgb(readPng(dir / "diffuse.png"), readPng(dir / "r.diffuse.png")).maxLevels, 1);
@@ -269,8 +253,8 @@ TEST(View, RealInputDrivesCameraAndPanel) {
             "xdotool mousemove 443 45 sleep 0.8 click 1 sleep 1\n"
             "xdotool mousemove 200 300 sleep 0.5 key Escape\n"
             "wait $pid\n");
-    ProcessRun run =
-        runShell("xvfb-run -a -s '-screen 0 1024x768x24' sh drive.sh '" WHITTED_EXECUTABLE "'; echo status $?", dir);
+    CommandRun run =
+        runCommand("xvfb-run -a -s '-screen 0 1024x768x24' sh drive.sh '" WHITTED_EXECUTABLE "'; echo status $?", dir);
     std::string log = readText(dir / "view.log");
     ASSERT_NE(run.output.find("status 0"), std::string::npos) << run.output << log;
     EXPECT_NE(log.find("showing ambient"), std::string::npos) << log;
@@ -286,15 +270,15 @@ TEST(View, RealInputDrivesCameraAndPanel) {
 
 TEST(View, BadInputExitsBeforeOpeningAWindow) {
     fs::path dir = scratchDir("bad");
-    ProcessRun missing = runShell("'" WHITTED_EXECUTABLE "' view no_such.xml", dir);
+    CommandRun missing = runCommand("'" WHITTED_EXECUTABLE "' view no_such.xml", dir);
     EXPECT_EQ(missing.status, 2);
     EXPECT_NE(missing.output.find("no_such.xml: cannot read file"), std::string::npos) << missing.output;
     writeText(dir / "script.txt", "spp 4\njump 3\n");
-    ProcessRun script = runShell("'" WHITTED_EXECUTABLE "' view " + room() + " --script script.txt", dir);
+    CommandRun script = runCommand("'" WHITTED_EXECUTABLE "' view " + room() + " --script script.txt", dir);
     EXPECT_EQ(script.status, 2);
     EXPECT_NE(script.output.find("script.txt:2: unknown command 'jump'"), std::string::npos) << script.output;
     writeText(dir / "args.txt", "drag left 3\n");
-    ProcessRun args = runShell("'" WHITTED_EXECUTABLE "' view " + room() + " --script args.txt", dir);
+    CommandRun args = runCommand("'" WHITTED_EXECUTABLE "' view " + room() + " --script args.txt", dir);
     EXPECT_EQ(args.status, 2);
     EXPECT_NE(args.output.find("args.txt:1: 'drag' takes 3 argument(s), got 2"), std::string::npos) << args.output;
 }
