@@ -8,6 +8,14 @@
 #include <cstdlib>
 #include <iostream>
 
+namespace {
+// WHITTED_VALIDATION=1 turns the validation layer on, as --validate does.
+bool validationFromEnvironment() {
+    const char* v = std::getenv("WHITTED_VALIDATION");
+    return v && *v && std::string(v) != "0";
+}
+}  // namespace
+
 int main(int argc, char** argv) {
     using namespace whitted;
     CLI::App app{"whitted: a Whitted-style ray tracer on Vulkan compute"};
@@ -72,12 +80,11 @@ int main(int argc, char** argv) {
             if (!output.empty()) render.output = output;
             render.settings.useBvh = !noBvh;
             render.tonemap = tonemap == "seed" ? Tonemap::Seed : Tonemap::Clamp;
-            if (const char* v = std::getenv("WHITTED_VALIDATION"); v && *v && std::string(v) != "0")
-                render.validation = true;
+            render.validation = render.validation || validationFromEnvironment();
             return runRenderCommand(render);
         }
         if (viewCmd->parsed()) {
-            if (const char* v = std::getenv("WHITTED_VALIDATION"); v && *v && std::string(v) != "0") view.validation = true;
+            view.validation = view.validation || validationFromEnvironment();
             return runViewCommand(view);
         }
         return runDevicesCommand();

@@ -27,12 +27,18 @@ vec3 safeInverse(vec3 d) {
 
 // Whether any material is transparent (kt > 0): a specialization constant
 // set by the renderer. Without transparency a shadow ray is an any-hit
-// query and the material lookups of filterThrough compile out.
+// query and the material lookups of testPrimitive compile out.
 layout(constant_id = kSpecTransparency) const bool kSceneHasTransparency = true;
 
-// The shapes among the unbounded primitives (planes; every primitive when
-// there is no BVH), a specialization constant like kShapeMask (which covers
-// the primitives in the BVH).
+// The shapes in the scene's BVH, one bit per shape tag: a specialization
+// constant set by the renderer (all shapes by default). On a SIMD CPU
+// driver such as lavapipe a branch is not skipped, its lanes are masked off,
+// so every shape function in a dispatch costs on every primitive test
+// unless the shapes the scene lacks are compiled out.
+layout(constant_id = kSpecShapeMask) const uint kShapeMask = 0x1fu;
+
+// The same for the unbounded primitives (planes; every primitive when there
+// is no BVH).
 layout(constant_id = kSpecListShapeMask) const uint kListShapeMask = 0x1fu;
 
 // intersectPrimitive on primitives[i] for a scene whose shapes are `mask`,

@@ -76,30 +76,24 @@ int runRenderCommand(const RenderCommandOptions& options) {
     // Write: either exactly where -o says, or a new history folder.
     std::vector<std::filesystem::path> files;
     std::filesystem::path shown;
+    auto recordJson = [&] {
+        return renderRecordJson({.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
+                                 .device = ctx.deviceInfo(), .result = &result, .files = files, .loadSeconds = loadSeconds});
+    };
     if (options.output) {
         files = writeRenderImages(result, *options.output, aovs, options.tonemap);
         shown = *options.output;
         // The record goes beside the image: out.png -> out.json.
         std::filesystem::path recordPath = *options.output;
         recordPath.replace_extension(".json");
-        RenderRecord record{.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
-                            .device = ctx.deviceInfo(), .result = &result, .files = files, .loadSeconds = loadSeconds};
-        writeTextFile(recordPath, renderRecordJson(record));
+        writeTextFile(recordPath, recordJson());
     } else {
-        std::filesystem::path staging = beginHistoryFolder(options.historyRoot);
-        try {
+        shown = writeHistoryFolder(options.historyRoot, [&](const std::filesystem::path& staging) {
             files = writeRenderImages(result, staging / "image.png", aovs, options.tonemap);
             std::filesystem::copy_file(options.scene, staging / "scene.xml");
             files.push_back(staging / "scene.xml");
-            RenderRecord record{.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
-                                .device = ctx.deviceInfo(), .result = &result, .files = files,
-                                .loadSeconds = loadSeconds};
-            writeTextFile(staging / "render.json", renderRecordJson(record));
-        } catch (...) {
-            std::filesystem::remove_all(staging);
-            throw;
-        }
-        shown = commitHistoryFolder(staging, options.historyRoot);
+            writeTextFile(staging / "render.json", recordJson());
+        });
     }
 
     if (!options.quiet) {

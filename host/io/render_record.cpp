@@ -78,14 +78,17 @@ std::string renderRecordJson(const RenderRecord& r) {
     return j.str();
 }
 
-std::filesystem::path beginHistoryFolder(const std::filesystem::path& root) {
+std::filesystem::path writeHistoryFolder(const std::filesystem::path& root,
+                                         const std::function<void(const std::filesystem::path& staging)>& fill) {
     std::filesystem::create_directories(root);
     std::filesystem::path staging = root / (".partial-" + std::to_string(::getpid()) + "-" + timestamp("%H%M%S"));
     std::filesystem::create_directory(staging);
-    return staging;
-}
-
-std::filesystem::path commitHistoryFolder(const std::filesystem::path& staging, const std::filesystem::path& root) {
+    try {
+        fill(staging);
+    } catch (...) {
+        std::filesystem::remove_all(staging);
+        throw;
+    }
     std::string base = timestamp("%Y-%m-%d_%H-%M-%S");
     for (int n = 1;; ++n) {
         std::filesystem::path target = root / (n == 1 ? base : base + "_" + std::to_string(n));

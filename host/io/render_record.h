@@ -7,6 +7,7 @@
 #include "vk/context.h"
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,11 +26,12 @@ struct RenderRecord {
 // The record as JSON text.
 std::string renderRecordJson(const RenderRecord& record);
 
-// A new, empty staging folder for a history entry under `root`; commit it
-// with commitHistoryFolder once every file is written, so that an
-// interrupted render never leaves a half-filled entry.
-std::filesystem::path beginHistoryFolder(const std::filesystem::path& root);
-std::filesystem::path commitHistoryFolder(const std::filesystem::path& staging, const std::filesystem::path& root);
+// A new history entry under `root` (the seed's renders/ folder): `fill`
+// writes every file into a staging folder, which is then renamed to the
+// next free timestamped name and returned. If `fill` throws, the staging
+// folder is removed, so an interrupted render never leaves a half-filled entry.
+std::filesystem::path writeHistoryFolder(const std::filesystem::path& root,
+                                         const std::function<void(const std::filesystem::path& staging)>& fill);
 
 // Writes text to a file atomically (temporary file, then rename).
 void writeTextFile(const std::filesystem::path& path, const std::string& text);

@@ -76,7 +76,7 @@ const Scene& checkPrimitivesFit(const VulkanContext& ctx, const Scene& scene) {
 
 // Specialization constants for a packed scene: the shapes in the BVH, any
 // transparency, the shapes outside it (planes). What a scene lacks compiles
-// out (on lavapipe every branch costs, taken or not: shaders/shapes/primitive.glsl).
+// out (on lavapipe every branch costs, taken or not: shaders/intersect.glsl).
 std::array<uint32_t, 3> specializationFor(const GpuScene& scene) {
     std::array<uint32_t, 3> constants = {0u, 0u, 0u};
     for (size_t i = 0; i < scene.primitives.size(); ++i)
@@ -289,20 +289,10 @@ RenderResult Renderer::render(const ProgressCallback& progress) {
         *counters = {};
         cmd.reset();
         cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
-        cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_.pipeline);
-        cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipeline_.layout, 0, *descriptorSet_, nullptr);
-        uint64_t expected = 0, batchSamples = 0;
+        uint64_t batchSamples = 0;
         for (size_t i = begin; i < end; ++i) {
-            const WorkItem& item = work[i];
-            vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
-                                         .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
-            cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
-                                vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
-            cmd.pushConstants<gpu::TileParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, item.tile);
-            cmd.dispatch((item.tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
-                         (item.tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1);
-            expected += uint64_t(item.tile.tile.z) * item.tile.tile.w * item.tile.samples.y;
-            batchSamples += item.samples;
+            recordTile(cmd, work[i].tile);
+            batchSamples += work[i].samples;
         }
         vk::MemoryBarrier toHost{.srcAccessMask = vk::AccessFlagBits::eShaderWrite,
                                  .dstAccessMask = vk::AccessFlagBits::eHostRead};
@@ -316,7 +306,8 @@ RenderResult Renderer::render(const ProgressCallback& progress) {
         if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
         ctx_.device.resetFences(*fence);
 
-        if (counters->primary < expected) result.lostSamples += expected - counters->primary;
+        // One camera ray per sample: fewer means the driver cut a run short.
+        if (counters->primary < batchSamples) result.lostSamples += batchSamples - counters->primary;
         result.rays.primary += counters->primary;
         result.rays.shadow += counters->shadow;
         result.rays.secondary += counters->secondary;

@@ -1,9 +1,11 @@
-// Notices when a file's contents change, by polling: reading a small scene
-// file a few times a second is cheap, needs no inotify, and also catches
-// editors that replace the file by renaming a new one over it.
+// Notices when a file's contents change, by polling: a stat a few times a
+// second is cheap, needs no inotify, and also catches editors that replace
+// the file by renaming a new one over it. The file is read only when its
+// modification time or size moved, and reported only when its bytes differ.
 #pragma once
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -25,6 +27,10 @@ private:
     std::chrono::milliseconds interval_;
     std::chrono::steady_clock::time_point lastLook_;
     std::string last_;
+    // Modification time and size when last read; reading again is due when
+    // either differs.
+    std::filesystem::file_time_type lastWrite_{};
+    std::uintmax_t lastSize_ = 0;
 };
 
 }  // namespace whitted

@@ -319,8 +319,7 @@ void ViewApp::checkReload() {
 void ViewApp::saveImages() {
     RenderResult result = renderer_.readMeans();
     std::vector<std::string> aovs = parseAovList("all");
-    std::filesystem::path staging = beginHistoryFolder(options_.historyRoot);
-    try {
+    std::filesystem::path folder = writeHistoryFolder(options_.historyRoot, [&](const std::filesystem::path& staging) {
         std::vector<std::filesystem::path> files =
             writeRenderImages(result, staging / "image.png", aovs, Tonemap::Clamp);
         Scene shown = scene_;
@@ -336,11 +335,7 @@ void ViewApp::saveImages() {
                             .result = &result,
                             .files = files};
         writeTextFile(staging / "render.json", renderRecordJson(record));
-    } catch (...) {
-        std::filesystem::remove_all(staging);
-        throw;
-    }
-    std::filesystem::path folder = commitHistoryFolder(staging, options_.historyRoot);
+    });
     overlay_.status = "saved " + folder.string();
     log("saved images to " + folder.string() + " (" + std::to_string(result.samplesPerPixel) + " spp)");
 }

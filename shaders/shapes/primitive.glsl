@@ -8,25 +8,20 @@
 #include "triangle.glsl"
 #include "box.glsl"
 
-// The shapes in the scene's BVH, one bit per shape tag: a specialization
-// constant set by the renderer (all shapes by default). On a SIMD CPU
-// driver such as lavapipe a branch is not skipped, its lanes are masked off,
-// so every shape function in this dispatch costs on every primitive test
-// unless the shapes the scene lacks are compiled out.
-layout(constant_id = kSpecShapeMask) const uint kShapeMask = 0x1fu;
-
-bool shapeEnabled(uint tag, uint actual) { return (kShapeMask & (1u << tag)) != 0u && actual == tag; }
-
+// One primitive held in registers. The renderer's traversal uses
+// intersectPrimitiveAt (intersect.glsl), which reads from the primitive
+// buffer only the words the shape needs; this form serves callers that have
+// the whole struct (tests/shaders/intersect_test.comp). Both call the same
+// shape functions.
 bool intersectPrimitive(Primitive prim, Ray ray, float tMin, inout float tHit, out vec3 normal) {
+    switch (prim.info.x) {
+        case kShapeSphere: return intersectSphere(prim.a.xyz, prim.a.w, ray, tMin, tHit, normal);
+        case kShapeCylinder: return intersectCylinder(prim.a.xyz, prim.b.xyz, prim.a.w, prim.b.w, ray, tMin, tHit, normal);
+        case kShapePlane: return intersectPlane(prim.a.xyz, prim.b.xyz, ray, tMin, tHit, normal);
+        case kShapeTriangle: return intersectTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, ray, tMin, tHit, normal);
+        case kShapeBox: return intersectBox(prim.a.xyz, prim.b.xyz, ray, tMin, tHit, normal);
+    }
     normal = vec3(0.0);
-    uint tag = prim.info.x;
-    if (shapeEnabled(kShapeSphere, tag)) return intersectSphere(prim.a.xyz, prim.a.w, ray, tMin, tHit, normal);
-    if (shapeEnabled(kShapeCylinder, tag))
-        return intersectCylinder(prim.a.xyz, prim.b.xyz, prim.a.w, prim.b.w, ray, tMin, tHit, normal);
-    if (shapeEnabled(kShapePlane, tag)) return intersectPlane(prim.a.xyz, prim.b.xyz, ray, tMin, tHit, normal);
-    if (shapeEnabled(kShapeTriangle, tag))
-        return intersectTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, ray, tMin, tHit, normal);
-    if (shapeEnabled(kShapeBox, tag)) return intersectBox(prim.a.xyz, prim.b.xyz, ray, tMin, tHit, normal);
     return false;
 }
 
