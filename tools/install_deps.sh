@@ -29,3 +29,19 @@ if ((${#missing[@]})); then
   $SUDO apt-get update -qq
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
+
+# Dear ImGui's GLFW and Vulkan back ends ship as example sources under
+# /usr/share/doc (CMakeLists.txt compiles them). Minimal images often tell
+# dpkg to skip /usr/share/doc; then take them from the package itself.
+backends=/usr/share/doc/libimgui-dev/examples/backends
+if [ ! -f "$backends/imgui_impl_vulkan.cpp" ] || [ ! -f "$backends/imgui_impl_glfw.cpp" ]; then
+  echo "install_deps: restoring the ImGui back-end sources into $backends" >&2
+  SUDO=""
+  [ "$(id -u)" -eq 0 ] || SUDO=sudo
+  work=$(mktemp -d)
+  chmod 755 "$work"  # apt downloads as the _apt user
+  (cd "$work" && apt-get download -qq libimgui-dev && dpkg-deb -x libimgui-dev_*.deb extracted)
+  $SUDO mkdir -p "$backends"
+  $SUDO cp "$work"/extracted/usr/share/doc/libimgui-dev/examples/backends/imgui_impl_{glfw,vulkan}.cpp "$backends/"
+  rm -rf "$work"
+fi
