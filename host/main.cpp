@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 
@@ -32,8 +33,20 @@ int main(int argc, char** argv) {
                           "Default: a new folder under renders/");
     renderCmd->add_option("--width", render.settings.width, "image width in pixels [scene's]")->check(CLI::Range(1, 16384));
     renderCmd->add_option("--height", render.settings.height, "image height in pixels [scene's]")->check(CLI::Range(1, 16384));
-    renderCmd->add_option("--spp", render.settings.samplesPerPixel, "samples per pixel, stratified")
+    render.settings.samplesPerPixel = 16;
+    render.settings.antiAliasing = AntiAliasing::Adaptive;
+    std::string aa = "adaptive", region;
+    renderCmd->add_option("--spp", render.settings.samplesPerPixel,
+                          "samples per pixel, stratified: the most a pixel takes (adaptive), or exactly (uniform)")
         ->check(CLI::Range(1, 65536))->capture_default_str();
+    renderCmd->add_option("--aa", aa, "anti-aliasing: adaptive (more samples where the image varies) or uniform")
+        ->check(CLI::IsMember({"adaptive", "uniform"}))->capture_default_str();
+    renderCmd->add_option("--aa-threshold", render.settings.aaThreshold,
+                          "adaptive: refine where displayed colours differ by more than this (0..1)")
+        ->check(CLI::Range(0.0f, 1.0f))->capture_default_str();
+    renderCmd->add_option("--region", region,
+                          "render only pixels X0 <= x < X1, Y0 <= y < Y1 of the image, exactly as a full render "
+                          "would (PNG: region-sized; EXR: data window in the full display window)");
     renderCmd->add_option("--max-depth", render.settings.maxDepth, "secondary bounces; 0 = local shading only")
         ->check(CLI::Range(0, int(gpu::kMaxDepthLimit)))->capture_default_str();
     renderCmd->add_option("--aov", render.aovs,
@@ -79,6 +92,16 @@ int main(int argc, char** argv) {
         if (renderCmd->parsed()) {
             if (!output.empty()) render.output = output;
             render.settings.useBvh = !noBvh;
+            render.settings.antiAliasing = aa == "uniform" ? AntiAliasing::Uniform : AntiAliasing::Adaptive;
+            if (!region.empty()) {
+                PixelRegion r;
+                char tail = 0;
+                if (std::sscanf(region.c_str(), "%d,%d,%d,%d%c", &r.x0, &r.y0, &r.x1, &r.y1, &tail) != 4) {
+                    std::cerr << "whitted: --region: expected X0,Y0,X1,Y1 (four integers), got '" << region << "'\n";
+                    return kExitBadInput;
+                }
+                render.settings.region = r;
+            }
             render.tonemap = tonemap == "seed" ? Tonemap::Seed : Tonemap::Clamp;
             render.validation = render.validation || validationFromEnvironment();
             return runRenderCommand(render);

@@ -28,6 +28,11 @@ WHITTED_CONST uint kBindingLights = 3;      // Light[]
 WHITTED_CONST uint kBindingOutput = 4;      // vec4[kAovCount * width * height]
 WHITTED_CONST uint kBindingCounters = 5;    // RayCounters
 WHITTED_CONST uint kBindingBvhNodes = 6;    // BvhNode[]
+// Adaptive anti-aliasing (host/render/adaptive.*): the pixels a refinement
+// pass traces, the first pass's per-pixel guide, per-entry sample statistics.
+WHITTED_CONST uint kBindingPixelList = 7;   // uint[]: x | y << 16
+WHITTED_CONST uint kBindingGuide = 8;       // uvec4[] over TileParams.guideRect: display colour bits, object id
+WHITTED_CONST uint kBindingSampleStats = 9; // uvec4[2 * entries]: min colour bits + object, max colour bits + mixed
 
 // Shape tags in Primitive.info.x.
 WHITTED_CONST uint kShapeSphere = 0;
@@ -42,7 +47,8 @@ WHITTED_CONST uint kShapeBox = 4;
 WHITTED_CONST uint kTriangleSmooth = 1;
 WHITTED_CONST uint kOctahedralBits = 15;
 
-// Output layers, each width*height vec4 holding the SUM over samples.
+// Output layers, each TileParams.outputRect's width*height vec4 holding the
+// SUM over samples (w of the colour layers: the samples taken).
 // Colour components ambient+diffuse+specular+reflection+transmission add up
 // to kAovColor exactly (each ray's contribution is tagged with the component
 // of the primary hit that spawned it).
@@ -123,10 +129,24 @@ struct FrameParams {
     uvec4 accel;        // BVH node count, first and count of the primitives outside it (planes), 0
 };
 
-// Per-dispatch constants (push constants): the tile and sample range.
+// TileParams.samples.w bit flags.
+WHITTED_CONST uint kTileList = 1u;       // pixels from the pixel list (tile.x first entry, tile.y count)
+WHITTED_CONST uint kTileOverwrite = 2u;  // replace the pixels' sums (and statistics) instead of adding
+WHITTED_CONST uint kTileGuide = 4u;      // write the guide (colour, object) of each pixel
+WHITTED_CONST uint kTileStats = 8u;      // write the sample statistics of each list entry
+
+// Entries of the pixel list traced by one work group in list mode.
+WHITTED_CONST uint kListGroupSize = kWorkgroupSize * kWorkgroupSize;
+// Object id of a sample that hit nothing.
+WHITTED_CONST uint kNoObject = 0xffffffffu;
+
+// Per-dispatch constants (push constants): which pixels, which samples of
+// which pattern, and where the output layers and guide sit in the image.
 struct TileParams {
-    uvec4 tile;     // x0, y0, width, height
-    uvec4 samples;  // first sample index, sample count, 0, 0
+    uvec4 tile;        // rect mode: x0, y0, width, height; list mode: first entry, count, 0, 0
+    uvec4 samples;     // first sample index, sample count, pattern size n, kTile* flags
+    uvec4 outputRect;  // x0, y0, width, height of the pixels the output layers hold
+    uvec4 guideRect;   // x0, y0, width, height of the pixels the guide holds
 };
 
 // Rays traced, counted by the shader (reset before each dispatch).

@@ -10,6 +10,9 @@ layout(std430, set = 0, binding = kBindingLights) readonly buffer LightBlock { L
 layout(std430, set = 0, binding = kBindingOutput) buffer OutputBlock { vec4 outputLayers[]; };
 layout(std430, set = 0, binding = kBindingCounters) buffer CounterBlock { RayCounters counters; };
 layout(std430, set = 0, binding = kBindingBvhNodes) readonly buffer BvhBlock { BvhNode bvhNodes[]; };
+layout(std430, set = 0, binding = kBindingPixelList) readonly buffer PixelListBlock { uint pixelList[]; };
+layout(std430, set = 0, binding = kBindingGuide) writeonly buffer GuideBlock { uvec4 guide[]; };
+layout(std430, set = 0, binding = kBindingSampleStats) buffer StatsBlock { uvec4 sampleStats[]; };
 layout(push_constant) uniform TileBlock { TileParams tileParams; };
 
 #endif

@@ -27,23 +27,59 @@ struct SampleResult {
     vec4 coefs1;         // kr, kt, ior, hit
 };
 
-// Traces samples [first, end) of a pixel in ONE loop: when a sample's ray
-// tree is done, the next sample's camera ray enters the stack in the same
-// iteration. Lanes run in lockstep on a SIMD CPU driver (lavapipe), so a
-// loop per sample would make every lane wait for the longest ray tree of
-// each sample; with one loop a lane waits only at the end. Each lane still
-// adds its own samples in order, so the sums are unchanged.
-void traceSamples(uvec2 pixel, uint first, uint end, uint pixelSeed, inout SampleResult result,
-                  inout uvec3 rayCount) {
+// What adaptive anti-aliasing decides from (host/render/adaptive.cpp): the
+// range of the samples' display colours and whether they saw one object.
+struct SampleSpread {
+    vec3 lo;
+    vec3 hi;
+    uint object;  // object (material index) of the first sample, kNoObject for none
+    bool mixed;   // the samples saw more than one object (or the background)
+};
+
+// Colour as a display shows it (clamped, sRGB curve): differences in it are
+// what a viewer sees, so the refinement threshold is compared there.
+vec3 displayEncode(vec3 c) {
+    c = clamp(c, 0.0, 1.0);
+    return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, greaterThan(c, vec3(0.0031308)));
+}
+
+void addToSpread(inout SampleSpread spread, vec3 color, uint object, bool firstSample) {
+    vec3 shown = displayEncode(color);
+    if (firstSample) {
+        spread.lo = shown;
+        spread.hi = shown;
+        spread.object = object;
+        spread.mixed = false;
+    } else {
+        spread.lo = min(spread.lo, shown);
+        spread.hi = max(spread.hi, shown);
+        spread.mixed = spread.mixed || object != spread.object;
+    }
+}
+
+// Traces samples [first, end) of pattern size n of a pixel in ONE loop: when
+// a sample's ray tree is done, the next sample's camera ray enters the stack
+// in the same iteration. Lanes run in lockstep on a SIMD CPU driver
+// (lavapipe), so a loop per sample would make every lane wait for the
+// longest ray tree of each sample; with one loop a lane waits only at the
+// end. Each lane still adds its own samples in order, so the sums are
+// unchanged.
+void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, inout SampleResult result,
+                  inout SampleSpread spread, inout uvec3 rayCount) {
     PendingRay stack[kRayStackSize];
     int top = 0;
     uint maxDepth = params.options.y;
     uint nextSample = first;
     vec2 size = vec2(params.sizes.xy);
+    vec3 sampleColor = vec3(0.0);  // the current sample's colour so far
+    uint sampleObject = kNoObject;
 
     while (top > 0 || nextSample < end) {
         if (top == 0) {
-            vec2 offset = pixelSampleOffset(nextSample, params.options.x, pixelSeed);
+            if (nextSample > first) addToSpread(spread, sampleColor, sampleObject, nextSample == first + 1u);
+            sampleColor = vec3(0.0);
+            sampleObject = kNoObject;
+            vec2 offset = pixelSampleOffset(nextSample, n, pixelSeed);
             Ray ray = generateCameraRay(vec2(pixel) + offset, size, params.eye.xyz, params.forward.xyz,
                                         params.right.xyz, params.up.xyz);
             stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u);
@@ -79,12 +115,14 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint pixelSeed, inout Sampl
             result.normal += vec4(ns, 1.0);
             result.coefs0 += vec4(m.coefs0.xyz, hit.t);
             result.coefs1 += vec4(kr, kt, ior, 1.0);
+            sampleColor += local.ambient + local.diffuse + local.specular;
+            sampleObject = prim.info.y;
         } else {
-            result.components[pending.component - 1u] +=
-                pending.weight * (local.ambient + local.diffuse + local.specular);
+            vec3 light = pending.weight * (local.ambient + local.diffuse + local.specular);
+            result.components[pending.component - 1u] += light;
+            sampleColor += light;
         }
         if (pending.depth >= maxDepth) continue;
-
         // Secondary rays: refraction by Snell's law with the object's IOR
         // against air; total internal reflection sends the transmitted share
         // into the reflected ray. Directions bent by the shading normal that
@@ -112,39 +150,82 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint pixelSeed, inout Sampl
                                       pending.weight * reflectWeight, childDepth, component);
         }
     }
+    if (end > first) addToSpread(spread, sampleColor, sampleObject, end == first + 1u);
+}
+
+// Adds (or with kTileOverwrite stores) v into output layer `layer` at `o`.
+void accumulate(uint layer, uint outPixels, uint o, vec4 v, bool overwrite) {
+    uint i = layer * outPixels + o;
+    outputLayers[i] = overwrite ? v : outputLayers[i] + v;
 }
 
 void main() {
-    uvec2 local = gl_GlobalInvocationID.xy;
-    if (local.x >= tileParams.tile.z || local.y >= tileParams.tile.w) return;
-    uvec2 pixel = tileParams.tile.xy + local;
-    uint width = params.sizes.x;
-    uint height = params.sizes.y;
-    uint pixelIndex = pixel.y * width + pixel.x;
-    uint pixelSeed = hashPcg(pixelIndex ^ params.options.w);
+    uint flags = tileParams.samples.w;
+    uvec2 pixel;
+    uint entry = 0u;
+    if ((flags & kTileList) != 0u) {
+        // List mode: one invocation per listed pixel (adaptive refinement).
+        uint index = gl_WorkGroupID.x * kListGroupSize + gl_LocalInvocationIndex;
+        if (index >= tileParams.tile.y) return;
+        entry = tileParams.tile.x + index;
+        uint packed = pixelList[entry];
+        pixel = uvec2(packed & 0xffffu, packed >> 16);
+    } else {
+        uvec2 local = gl_GlobalInvocationID.xy;
+        if (local.x >= tileParams.tile.z || local.y >= tileParams.tile.w) return;
+        pixel = tileParams.tile.xy + local;
+    }
+    // The pattern of a pixel depends on its place in the whole image only,
+    // so a region or a band traces exactly the samples a full render does.
+    uint pixelSeed = hashPcg((pixel.y * params.sizes.x + pixel.x) ^ params.options.w);
 
     SampleResult result;
     for (int i = 0; i < 5; ++i) result.components[i] = vec3(0.0);
     result.normal = vec4(0.0);
     result.coefs0 = vec4(0.0);
     result.coefs1 = vec4(0.0);
+    SampleSpread spread = SampleSpread(vec3(0.0), vec3(0.0), kNoObject, false);
     uvec3 rayCount = uvec3(0u);
 
     uint first = tileParams.samples.x;
     uint count = tileParams.samples.y;
-    traceSamples(pixel, first, first + count, pixelSeed, result, rayCount);
-
-    // Accumulate sums; the host divides by the sample count.
-    uint pixels = width * height;
+    traceSamples(pixel, first, first + count, tileParams.samples.z, pixelSeed, result, spread, rayCount);
     vec3 color = result.components[0] + result.components[1] + result.components[2] +
                  result.components[3] + result.components[4];
-    outputLayers[kAovColor * pixels + pixelIndex] += vec4(color, float(count));
-    if ((params.options.z & kOptionWriteAovs) != 0u) {
-        for (uint c = 0u; c < 5u; ++c)
-            outputLayers[(kAovAmbient + c) * pixels + pixelIndex] += vec4(result.components[c], float(count));
-        outputLayers[kAovNormal * pixels + pixelIndex] += result.normal;
-        outputLayers[kAovCoefs0 * pixels + pixelIndex] += result.coefs0;
-        outputLayers[kAovCoefs1 * pixels + pixelIndex] += result.coefs1;
+
+    // Accumulate sums into the output rectangle; the host divides by the
+    // sample count (w of the colour layer). Guide pixels outside it (the
+    // adaptive first pass's one-pixel border) write only the guide.
+    bool overwrite = (flags & kTileOverwrite) != 0u;
+    uvec4 rect = tileParams.outputRect;
+    if (all(greaterThanEqual(pixel, rect.xy)) && all(lessThan(pixel, rect.xy + rect.zw))) {
+        uint outPixels = rect.z * rect.w;
+        uint o = (pixel.y - rect.y) * rect.z + (pixel.x - rect.x);
+        accumulate(kAovColor, outPixels, o, vec4(color, float(count)), overwrite);
+        if ((params.options.z & kOptionWriteAovs) != 0u) {
+            for (uint c = 0u; c < 5u; ++c)
+                accumulate(kAovAmbient + c, outPixels, o, vec4(result.components[c], float(count)), overwrite);
+            accumulate(kAovNormal, outPixels, o, result.normal, overwrite);
+            accumulate(kAovCoefs0, outPixels, o, result.coefs0, overwrite);
+            accumulate(kAovCoefs1, outPixels, o, result.coefs1, overwrite);
+        }
+    }
+    if ((flags & kTileGuide) != 0u) {
+        uvec4 g = tileParams.guideRect;
+        guide[(pixel.y - g.y) * g.z + (pixel.x - g.x)] = uvec4(floatBitsToUint(displayEncode(color)), spread.object);
+    }
+    if ((flags & kTileStats) != 0u) {
+        // Statistics of this dispatch's samples, merged with the earlier
+        // dispatches of the same refinement pass.
+        if (!overwrite) {
+            uvec4 lo = sampleStats[2u * entry], hi = sampleStats[2u * entry + 1u];
+            spread.mixed = spread.mixed || hi.w != 0u || lo.w != spread.object;
+            spread.lo = min(spread.lo, uintBitsToFloat(lo.rgb));
+            spread.hi = max(spread.hi, uintBitsToFloat(hi.rgb));
+            spread.object = lo.w;
+        }
+        sampleStats[2u * entry] = uvec4(floatBitsToUint(spread.lo), spread.object);
+        sampleStats[2u * entry + 1u] = uvec4(floatBitsToUint(spread.hi), spread.mixed ? 1u : 0u);
     }
 
     atomicAdd(counters.primary, rayCount.x);

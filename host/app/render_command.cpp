@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 namespace whitted {
 namespace {
@@ -26,6 +27,10 @@ std::optional<std::string> checkOutput(const std::filesystem::path& path) {
 }
 
 std::string tonemapName(Tonemap t) { return t == Tonemap::Seed ? "seed" : "clamp"; }
+
+// Thrown out of the history folder's fill when the validation layer spoke:
+// the staging folder goes, nothing is written.
+struct ValidationFailed {};
 
 }  // namespace
 
@@ -61,39 +66,60 @@ int runRenderCommand(const RenderCommandOptions& options) {
         std::cerr << "whitted: device " << ctx.deviceInfo().name << " (" << ctx.deviceInfo().type << ", "
                   << ctx.deviceInfo().driver << ")\n";
 
-    Renderer renderer(ctx, scene, settings);
-    ProgressBar bar("rendering", !options.quiet);
-    RenderResult result = renderer.render([&](double f) { bar.update(f); });
-    bar.finish();
-    if (result.lostSamples > 0)
-        std::cerr << "warning: the driver cut " << result.lostSamples
-                  << " camera samples short (lavapipe's loop iteration cap); the image is incomplete there\n";
-    if (uint32_t n = ctx.validationMessageCount()) {
-        std::cerr << "whitted: the Vulkan validation layer reported " << n << " message(s); no image written\n";
-        return kExitValidation;
+    std::optional<Renderer> renderer;
+    try {
+        renderer.emplace(ctx, scene, settings);
+    } catch (const std::invalid_argument& e) {  // a region outside the image
+        std::cerr << "whitted: --region: " << e.what() << "\n";
+        return kExitBadInput;
     }
 
-    // Write: either exactly where -o says, or a new history folder.
+    // Bands stream into the image files as they complete (written under
+    // temporary names, renamed only once the render is complete and clean);
+    // the files go exactly where -o says, or into a new history folder.
+    RenderResult result;
     std::vector<std::filesystem::path> files;
     std::filesystem::path shown;
+    auto renderInto = [&](const std::filesystem::path& mainImage) {
+        ImageFileSink sink(mainImage, aovs, options.tonemap, renderer->layout(), settings.samplesPerPixel);
+        ProgressBar bar("rendering", !options.quiet);
+        result = renderer->renderTo(sink, [&](double f) { bar.update(f); });
+        bar.finish();
+        if (result.lostSamples > 0)
+            std::cerr << "warning: the driver cut " << result.lostSamples
+                      << " camera samples short (lavapipe's loop iteration cap); the image is incomplete there\n";
+        if (ctx.validationMessageCount() > 0) return false;
+        files = sink.finish();
+        return true;
+    };
     auto recordJson = [&] {
         return renderRecordJson({.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
                                  .device = ctx.deviceInfo(), .result = &result, .files = files, .loadSeconds = loadSeconds});
     };
+    bool clean = true;
     if (options.output) {
-        files = writeRenderImages(result, *options.output, aovs, options.tonemap);
+        clean = renderInto(*options.output);
         shown = *options.output;
         // The record goes beside the image: out.png -> out.json.
         std::filesystem::path recordPath = *options.output;
         recordPath.replace_extension(".json");
-        writeTextFile(recordPath, recordJson());
+        if (clean) writeTextFile(recordPath, recordJson());
     } else {
-        shown = writeHistoryFolder(options.historyRoot, [&](const std::filesystem::path& staging) {
-            files = writeRenderImages(result, staging / "image.png", aovs, options.tonemap);
-            std::filesystem::copy_file(options.scene, staging / "scene.xml");
-            files.push_back(staging / "scene.xml");
-            writeTextFile(staging / "render.json", recordJson());
-        });
+        try {
+            shown = writeHistoryFolder(options.historyRoot, [&](const std::filesystem::path& staging) {
+                if (!renderInto(staging / "image.png")) throw ValidationFailed{};
+                std::filesystem::copy_file(options.scene, staging / "scene.xml");
+                files.push_back(staging / "scene.xml");
+                writeTextFile(staging / "render.json", recordJson());
+            });
+        } catch (const ValidationFailed&) {
+            clean = false;
+        }
+    }
+    if (!clean) {
+        std::cerr << "whitted: the Vulkan validation layer reported " << ctx.validationMessageCount()
+                  << " message(s); no image written\n";
+        return kExitValidation;
     }
 
     if (!options.quiet) {
@@ -102,9 +128,11 @@ int runRenderCommand(const RenderCommandOptions& options) {
         std::fprintf(stderr, "whitted: scene loaded in %.2f s, BVH of %u nodes built in %.2f s, uploaded in %.2f s\n",
                      loadSeconds, result.bvh.nodeCount, result.bvh.buildSeconds, result.uploadSeconds);
         double mrays = double(result.rays.total()) / std::max(result.renderSeconds, 1e-9) / 1e6;
-        std::fprintf(stderr, "whitted: wrote %s (%dx%d, %d spp, %zu auxiliary) in %.2f s, %.1f Mrays/s\n",
-                     shown.string().c_str(), result.width, result.height, result.samplesPerPixel, aovs.size(),
-                     result.renderSeconds, mrays);
+        double meanSpp = double(result.samplesTaken) / (double(result.width) * result.height);
+        std::fprintf(stderr, "whitted: wrote %s (%dx%d, %s %.2f spp of at most %d, %zu auxiliary) in %.2f s, %.1f Mrays/s\n",
+                     shown.string().c_str(), result.width, result.height,
+                     settings.antiAliasing == AntiAliasing::Adaptive ? "adaptive" : "uniform", meanSpp,
+                     result.samplesPerPixel, aovs.size(), result.renderSeconds, mrays);
     }
     return kExitOk;
 }

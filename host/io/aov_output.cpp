@@ -4,13 +4,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <bit>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <limits>
 #include <sstream>
+#include <unistd.h>
 #include <stdexcept>
 
 namespace whitted {
 namespace {
 
-enum class AovKind { Color, Scalar, Depth, Normal };
+enum class AovKind { Color, Scalar, Depth, Normal, Samples };
 
 struct AovSpec {
     AovInfo info;
@@ -36,6 +42,7 @@ const std::vector<AovSpec>& aovSpecs() {
         {{"ior", "index of refraction of the visible surface (8-bit: ior / 3)"}, Scalar, gpu::kAovCoefs1, 2, 1.0f / 3.0f},
         {{"depth", "distance from the eye to the visible surface"}, Depth, gpu::kAovCoefs0, 3, 1},
         {{"normal", "shading normal of the visible surface (8-bit: n / 2 + 0.5)"}, Normal, gpu::kAovNormal, 0, 1},
+        {{"samples", "camera samples the pixel took (8-bit: samples / maximum)"}, Samples, gpu::kAovColor, 0, 1},
     };
     return specs;
 }
@@ -46,79 +53,186 @@ const AovSpec& findSpec(const std::string& name) {
     throw std::invalid_argument("unknown auxiliary image '" + name + "'");
 }
 
-// The seed's tone mapping: min-max normalisation over all channels, then a
-// gamma of 0.667.
-void seedTonemap(std::vector<float>& pixels) {
-    auto [lo, hi] = std::minmax_element(pixels.begin(), pixels.end());
-    float minimum = *lo, range = *hi - *lo;
-    for (float& v : pixels) v = range > 0 ? std::pow((v - minimum) / range, 0.667f) : 0.0f;
-}
-
-std::vector<float> rgbOf(const std::vector<float>& rgba) {
-    std::vector<float> rgb(rgba.size() / 4 * 3);
-    for (size_t i = 0, n = rgba.size() / 4; i < n; ++i)
-        for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = rgba[i * 4 + c];
-    return rgb;
-}
-
-void writeColor(const std::filesystem::path& path, const RenderResult& r, const std::vector<float>& rgba, Tonemap tonemap) {
-    std::vector<float> rgb = rgbOf(rgba);
-    PixelEncoding encoding = PixelEncoding::Srgb8;
-    if (!isFloatFormat(path) && tonemap == Tonemap::Seed) {
-        seedTonemap(rgb);
-        encoding = PixelEncoding::Linear8;
+// A file of floats written once and read back once: values an image needs
+// whole before it can be encoded. Unlinked as soon as it is created, so it
+// vanishes with the process whatever happens.
+class Spool {
+public:
+    explicit Spool(const std::filesystem::path& folder) {
+        std::filesystem::path path = folder / (".whitted-spool-" + std::to_string(::getpid()) + "-" +
+                                               std::to_string(reinterpret_cast<uintptr_t>(this)));
+        file_ = std::fopen(path.c_str(), "w+b");
+        if (!file_) throw std::runtime_error(path.string() + ": cannot create a temporary file: " + std::strerror(errno));
+        std::filesystem::remove(path);
     }
-    writeImage(path, r.width, r.height, 3, rgb, encoding);
+    ~Spool() { std::fclose(file_); }
+    void write(std::span<const float> v) {
+        if (std::fwrite(v.data(), sizeof(float), v.size(), file_) != v.size())
+            throw std::runtime_error(std::string("cannot write a temporary file: ") + std::strerror(errno));
+    }
+    void rewind() { std::rewind(file_); }
+    void read(std::span<float> v) {
+        if (std::fread(v.data(), sizeof(float), v.size(), file_) != v.size())
+            throw std::runtime_error("cannot read back a temporary file");
+    }
+
+private:
+    std::FILE* file_;
+};
+
+}  // namespace
+
+// One output file: how its pixels come from a band, and, for images that
+// need the whole picture first, the spool and the statistics gathered.
+struct ImageFileSink::File {
+    AovSpec spec;
+    std::unique_ptr<ImageStreamWriter> writer;
+    int channels = 3;
+    bool isFloat = false;
+    bool seedTonemap = false;  // colour with --tonemap seed, 8-bit
+    std::unique_ptr<Spool> spool;
+    float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();  // seed: min, max
+    std::vector<uint64_t> histogram;  // 8-bit depth: counts of the upper 16 bits of the distances
+    uint64_t hits = 0;
+
+    bool spooled() const { return spool != nullptr; }
+};
+
+ImageFileSink::ImageFileSink(const std::filesystem::path& mainImage, const std::vector<std::string>& aovs,
+                             Tonemap tonemap, const ImageLayout& layout, int maxSamples)
+    : layout_(layout), maxSamples_(maxSamples) {
+    const PixelRegion& r = layout.region;
+    ImageWindow window{layout.fullWidth, layout.fullHeight, r.x0, r.y0};
+    std::filesystem::path folder = mainImage.parent_path().empty() ? "." : mainImage.parent_path();
+    auto add = [&](const std::filesystem::path& path, const AovSpec& spec) {
+        auto file = std::make_unique<File>();
+        file->spec = spec;
+        file->isFloat = isFloatFormat(path);
+        file->channels = spec.kind == AovKind::Color || spec.kind == AovKind::Normal ? 3 : 1;
+        PixelEncoding encoding = PixelEncoding::Linear8;
+        if (spec.kind == AovKind::Color) {
+            file->seedTonemap = !file->isFloat && tonemap == Tonemap::Seed;
+            if (!file->seedTonemap) encoding = PixelEncoding::Srgb8;
+        }
+        if (file->seedTonemap || (spec.kind == AovKind::Depth && !file->isFloat)) file->spool = std::make_unique<Spool>(folder);
+        if (spec.kind == AovKind::Depth && !file->isFloat) file->histogram.assign(1u << 16, 0);
+        file->writer = std::make_unique<ImageStreamWriter>(path, r.width(), r.height(), file->channels, encoding, window);
+        files_.push_back(std::move(file));
+    };
+    add(mainImage, AovSpec{{"image", "the image"}, AovKind::Color, gpu::kAovColor, 0, 1});
+    for (const std::string& name : aovs) {
+        const AovSpec& spec = findSpec(name);
+        if (spec.kind != AovKind::Samples && layout.layerCount <= spec.layer)
+            throw std::logic_error("auxiliary images requested from a render without auxiliary layers");
+        add(aovPath(mainImage, name), spec);
+    }
 }
 
-void writeAov(const std::filesystem::path& path, const RenderResult& r, const AovSpec& spec, Tonemap tonemap) {
-    const std::vector<float>& layer = r.layers[spec.layer];
-    const std::vector<float>& hits = r.layers[gpu::kAovCoefs1];  // w: fraction of samples that hit
-    bool isFloat = isFloatFormat(path);
-    size_t n = size_t(r.width) * r.height;
-    switch (spec.kind) {
-        case AovKind::Color:
-            writeColor(path, r, layer, tonemap);
-            return;
-        case AovKind::Scalar: {
-            std::vector<float> v(n);
-            for (size_t i = 0; i < n; ++i) v[i] = layer[i * 4 + spec.channel] * (isFloat ? 1.0f : spec.pngScale);
-            writeImage(path, r.width, r.height, 1, v, PixelEncoding::Linear8);
-            return;
-        }
-        case AovKind::Depth: {
-            // Mean distance over the samples that hit; 0 where nothing was
-            // hit. 8-bit files map distance d to m / (m + d), m the median
-            // distance, so that near is bright and an infinite plane's
-            // horizon does not wash the rest out.
-            std::vector<float> v(n, 0.0f), distances;
-            for (size_t i = 0; i < n; ++i)
-                if (hits[i * 4 + 3] > 0) distances.push_back(v[i] = layer[i * 4 + 3] / hits[i * 4 + 3]);
-            if (!isFloat && !distances.empty()) {
-                std::nth_element(distances.begin(), distances.begin() + distances.size() / 2, distances.end());
-                float median = distances[distances.size() / 2];
+ImageFileSink::~ImageFileSink() = default;  // unfinished writers remove their temporaries
+
+void ImageFileSink::writeBand(const BandView& band) {
+    size_t n = size_t(band.rows) * band.width;
+    int row = band.y0 - layout_.region.y0;
+    std::vector<float> v;
+    for (auto& file : files_) {
+        const AovSpec& spec = file->spec;
+        v.assign(n * file->channels, 0.0f);
+        std::span<const float> layer = spec.kind == AovKind::Samples ? std::span<const float>() : band.layer(spec.layer);
+        switch (spec.kind) {
+            case AovKind::Color:
                 for (size_t i = 0; i < n; ++i)
-                    if (hits[i * 4 + 3] > 0) v[i] = median / (median + v[i]);
-            }
-            writeImage(path, r.width, r.height, 1, v, PixelEncoding::Linear8);
-            return;
-        }
-        case AovKind::Normal: {
-            std::vector<float> v(n * 3, 0.0f);
-            for (size_t i = 0; i < n; ++i) {
-                float w = layer[i * 4 + 3];
-                if (w <= 0) continue;
-                for (int c = 0; c < 3; ++c) {
-                    float x = layer[i * 4 + c] / w;
-                    v[i * 3 + c] = isFloat ? x : x * 0.5f + 0.5f;
+                    for (int c = 0; c < 3; ++c) v[i * 3 + c] = layer[i * 4 + c];
+                break;
+            case AovKind::Scalar:
+                for (size_t i = 0; i < n; ++i) v[i] = layer[i * 4 + spec.channel] * (file->isFloat ? 1.0f : spec.pngScale);
+                break;
+            case AovKind::Depth: {
+                // Mean distance over the samples that hit; 0 where nothing
+                // was hit (-1 in the spool, to tell it from a distance).
+                std::span<const float> hits = band.layer(gpu::kAovCoefs1);  // w: fraction of samples that hit
+                for (size_t i = 0; i < n; ++i) {
+                    float h = hits[i * 4 + 3];
+                    v[i] = h > 0 ? layer[i * 4 + 3] / h : (file->spooled() ? -1.0f : 0.0f);
+                    if (h > 0 && !file->histogram.empty()) {
+                        ++file->histogram[std::bit_cast<uint32_t>(v[i]) >> 16];
+                        ++file->hits;
+                    }
                 }
+                break;
             }
-            writeImage(path, r.width, r.height, 3, v, PixelEncoding::Linear8);
-            return;
+            case AovKind::Normal:
+                for (size_t i = 0; i < n; ++i) {
+                    float w = layer[i * 4 + 3];
+                    if (w <= 0) continue;
+                    for (int c = 0; c < 3; ++c) {
+                        float x = layer[i * 4 + c] / w;
+                        v[i * 3 + c] = file->isFloat ? x : x * 0.5f + 0.5f;
+                    }
+                }
+                break;
+            case AovKind::Samples:
+                for (size_t i = 0; i < n; ++i)
+                    v[i] = band.sampleCounts[i] / (file->isFloat ? 1.0f : float(maxSamples_));
+                break;
         }
+        if (file->seedTonemap)
+            for (float x : v) file->lo = std::min(file->lo, x), file->hi = std::max(file->hi, x);
+        if (file->spooled())
+            file->spool->write(v);
+        else
+            file->writer->writeRows(row, band.rows, v);
     }
 }
 
+std::vector<std::filesystem::path> ImageFileSink::finish() {
+    const PixelRegion& r = layout_.region;
+    size_t rowValues = size_t(r.width());
+    for (auto& file : files_) {
+        if (!file->spooled()) continue;
+        // The median distance, exactly: the upper 16 bits of the float
+        // (distances are positive, so their bits sort like their values)
+        // from the histogram gathered while streaming, then the lower 16
+        // bits from a pass over the spool.
+        float median = 0.0f;
+        std::vector<float> v(rowValues * file->channels);
+        if (!file->histogram.empty() && file->hits > 0) {
+            uint64_t rank = file->hits / 2, below = 0;
+            uint32_t upper = 0;
+            while (below + file->histogram[upper] <= rank) below += file->histogram[upper++];
+            std::vector<uint64_t> lower(1u << 16, 0);
+            file->spool->rewind();
+            for (int y = 0; y < r.height(); ++y) {
+                file->spool->read(v);
+                for (float d : v)
+                    if (d >= 0 && std::bit_cast<uint32_t>(d) >> 16 == upper) ++lower[std::bit_cast<uint32_t>(d) & 0xffffu];
+            }
+            uint32_t bits = 0;
+            while (below + lower[bits] <= rank) below += lower[bits++];
+            median = std::bit_cast<float>(upper << 16 | bits);
+        }
+        // Second pass: encode and write row by row.
+        file->spool->rewind();
+        float range = file->hi - file->lo;
+        for (int y = 0; y < r.height(); ++y) {
+            file->spool->read(v);
+            for (float& x : v) {
+                if (file->seedTonemap)  // the seed's min-max normalisation, then a gamma of 0.667
+                    x = range > 0 ? std::pow((x - file->lo) / range, 0.667f) : 0.0f;
+                else  // 8-bit depth: m / (m + d), near is bright, 0 where nothing was hit
+                    x = x >= 0 ? median / (median + x) : 0.0f;
+            }
+            file->writer->writeRows(y, 1, v);
+        }
+    }
+    std::vector<std::filesystem::path> written;
+    for (auto& file : files_) {
+        file->writer->commit();
+        written.push_back(file->writer->path());
+    }
+    return written;
+}
+
+namespace {
 }  // namespace
 
 const std::vector<AovInfo>& allAovs() {
@@ -152,17 +266,20 @@ std::filesystem::path aovPath(const std::filesystem::path& mainImage, const std:
 
 std::vector<std::filesystem::path> writeRenderImages(const RenderResult& result, const std::filesystem::path& mainImage,
                                                      const std::vector<std::string>& aovs, Tonemap tonemap) {
-    std::vector<std::filesystem::path> written;
-    writeColor(mainImage, result, result.layers[gpu::kAovColor], tonemap);
-    written.push_back(mainImage);
-    if (!aovs.empty() && !result.hasAuxiliary)
-        throw std::logic_error("auxiliary images requested from a render without auxiliary layers");
-    for (const std::string& name : aovs) {
-        std::filesystem::path path = aovPath(mainImage, name);
-        writeAov(path, result, findSpec(name), tonemap);
-        written.push_back(path);
-    }
-    return written;
+    // The whole result as one band.
+    ImageLayout layout = result.layout;
+    if (layout.fullWidth == 0) layout = {result.width, result.height, {0, 0, result.width, result.height}, 1};
+    layout.layerCount = result.hasAuxiliary ? gpu::kAovCount : 1;
+    size_t pixels = size_t(result.width) * result.height;
+    std::vector<float> layers(layout.layerCount * pixels * 4);
+    for (uint32_t l = 0; l < layout.layerCount; ++l)
+        std::copy(result.layers[l].begin(), result.layers[l].end(), layers.begin() + l * pixels * 4);
+    std::vector<float> counts = result.sampleCounts;
+    counts.resize(pixels, float(result.samplesPerPixel));
+    ImageFileSink sink(mainImage, aovs, tonemap, layout, std::max(result.samplesPerPixel, 1));
+    sink.writeBand({.y0 = layout.region.y0, .rows = result.height, .width = result.width, .layers = layers,
+                    .sampleCounts = counts});
+    return sink.finish();
 }
 
 }  // namespace whitted

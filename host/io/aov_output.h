@@ -2,7 +2,10 @@
 // (AOVs) beside it, tone-mapped for 8-bit formats, linear for EXR.
 #pragma once
 
+#include "render/band_sink.h"
 #include "render/renderer.h"
+
+#include <memory>
 
 #include <filesystem>
 #include <string>
@@ -31,6 +34,29 @@ std::vector<std::string> parseAovList(const std::string& list);
 // Path of auxiliary image `aov` for the main image `mainImage`:
 // out/room.png -> out/room.diffuse.png
 std::filesystem::path aovPath(const std::filesystem::path& mainImage, const std::string& aov);
+
+// Streams a render's bands into the main image and the requested auxiliary
+// images, each written under a temporary name: finish() completes and renames
+// them all; destroyed unfinished (a failed render), it leaves nothing behind.
+// 8-bit depth (scaled by the median distance) and --tonemap seed (min-max
+// over the image) need the whole image first: their values are spooled to
+// an unlinked temporary file and written by finish(), so host memory stays
+// bounded by one band whatever the image size.
+class ImageFileSink final : public BandSink {
+public:
+    ImageFileSink(const std::filesystem::path& mainImage, const std::vector<std::string>& aovs, Tonemap tonemap,
+                  const ImageLayout& layout, int maxSamples);
+    ~ImageFileSink() override;
+    void writeBand(const BandView& band) override;
+    // Completes every file; returns the paths written, main image first.
+    std::vector<std::filesystem::path> finish();
+
+private:
+    struct File;
+    std::vector<std::unique_ptr<File>> files_;
+    ImageLayout layout_;
+    int maxSamples_;
+};
 
 // Writes the main image and the requested auxiliary images; returns the
 // paths written, main image first.

@@ -37,44 +37,80 @@ bool isWritableFormat(const std::filesystem::path& path) {
     return out != nullptr;
 }
 
-void writeImage(const std::filesystem::path& path, int width, int height, int channels,
-                std::span<const float> pixels, PixelEncoding encoding) {
-    namespace fs = std::filesystem;
-    bool isFloat = isFloatFormat(path);
-    std::vector<unsigned char> bytes;
-    if (!isFloat) {
-        bytes.resize(pixels.size());
-        for (size_t i = 0; i < pixels.size(); ++i) {
-            float v = encoding == PixelEncoding::Srgb8 ? linearToSrgb(pixels[i]) : std::clamp(pixels[i], 0.0f, 1.0f);
-            bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
-        }
-    }
+unsigned char encode8(float v, PixelEncoding encoding) {
+    float e = encoding == PixelEncoding::Srgb8 ? linearToSrgb(v) : std::clamp(v, 0.0f, 1.0f);
+    return static_cast<unsigned char>(std::lround(e * 255.0f));
+}
 
+struct ImageStreamWriter::Output {
+    std::unique_ptr<OIIO::ImageOutput> image;
+};
+
+ImageStreamWriter::ImageStreamWriter(const std::filesystem::path& path, int width, int height, int channels,
+                                     PixelEncoding encoding, const ImageWindow& window)
+    : path_(path), out_(std::make_unique<Output>()), width_(width), height_(height), channels_(channels),
+      isFloat_(isFloatFormat(path)), encoding_(encoding) {
     // Temporary name in the same folder (same file system, so rename is
     // atomic) with the same extension (OpenImageIO picks the format by it).
-    fs::path temporary = path.parent_path() /
-                         ("." + path.stem().string() + ".partial-" + std::to_string(::getpid()) + path.extension().string());
-    auto out = OIIO::ImageOutput::create(temporary.string());
-    if (!out) throw std::runtime_error(path.string() + ": no image writer for this file extension");
-    OIIO::ImageSpec spec(width, height, channels, isFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-    if (!isFloat && encoding == PixelEncoding::Srgb8) spec.attribute("oiio:ColorSpace", "sRGB");
-    if (isFloat) spec.attribute("compression", "zip");
-    bool ok = out->open(temporary.string(), spec) &&
-              (isFloat ? out->write_image(OIIO::TypeDesc::FLOAT, pixels.data())
-                       : out->write_image(OIIO::TypeDesc::UINT8, bytes.data())) &&
-              out->close();
-    if (!ok) {
-        std::string error = out->geterror();
+    temporary_ = path.parent_path() /
+                 ("." + path.stem().string() + ".partial-" + std::to_string(::getpid()) + path.extension().string());
+    out_->image = OIIO::ImageOutput::create(temporary_.string());
+    if (!out_->image) throw std::runtime_error(path.string() + ": no image writer for this file extension");
+    OIIO::ImageSpec spec(width, height, channels, isFloat_ ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+    if (!isFloat_ && encoding == PixelEncoding::Srgb8) spec.attribute("oiio:ColorSpace", "sRGB");
+    if (isFloat_) {
+        spec.attribute("compression", "zip");
+        if (window.fullWidth > 0) {
+            spec.x = window.x0;
+            spec.y = window.y0;
+            spec.full_x = 0;
+            spec.full_y = 0;
+            spec.full_width = window.fullWidth;
+            spec.full_height = window.fullHeight;
+            y0_ = window.y0;
+        }
+    }
+    if (!out_->image->open(temporary_.string(), spec)) {
+        std::string error = out_->image->geterror();
+        out_->image.reset();
         std::error_code ignored;
-        fs::remove(temporary, ignored);
+        std::filesystem::remove(temporary_, ignored);
         throw std::runtime_error(path.string() + ": cannot write image: " + error);
     }
-    std::error_code ec;
-    fs::rename(temporary, path, ec);
-    if (ec) {
-        fs::remove(temporary, ec);
-        throw std::runtime_error(path.string() + ": cannot write image: " + ec.message());
+}
+
+ImageStreamWriter::~ImageStreamWriter() {
+    if (committed_) return;
+    if (out_->image) out_->image->close();
+    std::error_code ignored;
+    std::filesystem::remove(temporary_, ignored);
+}
+
+void ImageStreamWriter::writeRows(int row, int rows, std::span<const float> pixels) {
+    bool ok;
+    if (isFloat_) {
+        ok = out_->image->write_scanlines(y0_ + row, y0_ + row + rows, 0, OIIO::TypeDesc::FLOAT, pixels.data());
+    } else {
+        bytes_.resize(pixels.size());
+        for (size_t i = 0; i < pixels.size(); ++i) bytes_[i] = encode8(pixels[i], encoding_);
+        ok = out_->image->write_scanlines(row, row + rows, 0, OIIO::TypeDesc::UINT8, bytes_.data());
     }
+    if (!ok) throw std::runtime_error(path_.string() + ": cannot write image: " + out_->image->geterror());
+}
+
+void ImageStreamWriter::commit() {
+    if (!out_->image->close()) throw std::runtime_error(path_.string() + ": cannot write image: " + out_->image->geterror());
+    std::error_code ec;
+    std::filesystem::rename(temporary_, path_, ec);
+    if (ec) throw std::runtime_error(path_.string() + ": cannot write image: " + ec.message());
+    committed_ = true;
+}
+
+void writeImage(const std::filesystem::path& path, int width, int height, int channels,
+                std::span<const float> pixels, PixelEncoding encoding) {
+    ImageStreamWriter writer(path, width, height, channels, encoding);
+    writer.writeRows(0, height, pixels);
+    writer.commit();
 }
 
 std::span<const float> readImageInto(const std::filesystem::path& path, int& width, int& height, int& channels,

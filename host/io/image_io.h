@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -18,6 +19,48 @@ enum class PixelEncoding {
 bool isFloatFormat(const std::filesystem::path& path);
 // True if OpenImageIO can write this file's format.
 bool isWritableFormat(const std::filesystem::path& path);
+
+// Where an image's pixels sit in a larger picture: float formats (EXR) keep
+// the full picture as display window and the pixels as data window at
+// (x0, y0); 8-bit formats store the pixels alone.
+struct ImageWindow {
+    int fullWidth = 0;
+    int fullHeight = 0;
+    int x0 = 0;
+    int y0 = 0;
+};
+
+// The 8-bit value written for v.
+unsigned char encode8(float v, PixelEncoding encoding);
+
+// An image written band by band, top to bottom, so that memory holds one
+// band: under a temporary name in the destination folder, renamed over the
+// target by commit() once complete; destroyed uncommitted, it removes the
+// temporary file. Throws std::runtime_error naming the file.
+class ImageStreamWriter {
+public:
+    ImageStreamWriter(const std::filesystem::path& path, int width, int height, int channels, PixelEncoding encoding,
+                      const ImageWindow& window = {});
+    ~ImageStreamWriter();
+    ImageStreamWriter(const ImageStreamWriter&) = delete;
+    ImageStreamWriter& operator=(const ImageStreamWriter&) = delete;
+
+    // Rows [row, row + rows) of the image (0 = its first row), `channels`
+    // interleaved floats per pixel.
+    void writeRows(int row, int rows, std::span<const float> pixels);
+    void commit();
+    const std::filesystem::path& path() const { return path_; }
+
+private:
+    std::filesystem::path path_, temporary_;
+    struct Output;
+    std::unique_ptr<Output> out_;
+    int width_, height_, channels_, y0_ = 0;
+    bool isFloat_;
+    PixelEncoding encoding_;
+    std::vector<unsigned char> bytes_;
+    bool committed_ = false;
+};
 
 // Writes `channels` interleaved floats per pixel, rows from the top. For
 // float formats `encoding` is ignored. Throws std::runtime_error.

@@ -1,5 +1,6 @@
 #include "io/render_record.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -54,7 +55,14 @@ std::string renderRecordJson(const RenderRecord& r) {
     j << "  \"scene\": " << jsonString(r.scenePath.string()) << ",\n";
     j << "  \"settings\": {\"width\": " << res.width << ", \"height\": " << res.height
       << ", \"spp\": " << r.settings.samplesPerPixel << ", \"max_depth\": " << r.settings.maxDepth
-      << ", \"tonemap\": " << jsonString(r.tonemap) << "},\n";
+      << ", \"tonemap\": " << jsonString(r.tonemap) << ", \"aa\": "
+      << jsonString(r.settings.antiAliasing == AntiAliasing::Adaptive ? "adaptive" : "uniform")
+      << ", \"aa_threshold\": " << r.settings.aaThreshold << ", \"full_width\": " << res.layout.fullWidth
+      << ", \"full_height\": " << res.layout.fullHeight << ", \"region\": [" << res.layout.region.x0 << ", "
+      << res.layout.region.y0 << ", " << res.layout.region.x1 << ", " << res.layout.region.y1 << "]},\n";
+    j << "  \"sampling\": {\"camera_samples\": " << res.samplesTaken << ", \"mean_spp\": "
+      << double(res.samplesTaken) / std::max(1.0, double(res.width) * res.height) << ", \"bands\": " << res.bands
+      << "},\n";
     j << "  \"device\": {\"name\": " << jsonString(r.device.name) << ", \"type\": " << jsonString(r.device.type)
       << ", \"driver\": " << jsonString(r.device.driver) << "},\n";
     j << "  \"timings_s\": {\"load\": " << r.loadSeconds << ", \"bvh_build\": " << res.bvh.buildSeconds

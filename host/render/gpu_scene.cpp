@@ -14,7 +14,7 @@ static_assert(sizeof(gpu::Material) == 64 && offsetof(gpu::Material, coefs1) == 
 static_assert(sizeof(gpu::Light) == 32);
 static_assert(sizeof(gpu::FrameParams) == 128 && offsetof(gpu::FrameParams, accel) == 112);
 static_assert(sizeof(gpu::BvhNode) == 32);
-static_assert(sizeof(gpu::TileParams) == 32);
+static_assert(sizeof(gpu::TileParams) == 64 && offsetof(gpu::TileParams, guideRect) == 48);
 static_assert(sizeof(gpu::RayCounters) == 16);
 
 namespace {

@@ -1,21 +1,50 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 namespace whitted {
+
+// How the samples of a pixel are chosen.
+enum class AntiAliasing {
+    Uniform,   // every pixel takes exactly samplesPerPixel stratified samples
+    Adaptive,  // one sample per pixel, more where the image varies, up to samplesPerPixel
+};
+
+// Pixels x0 <= x < x1, y0 <= y < y1 of the full image.
+struct PixelRegion {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    int width() const { return x1 - x0; }
+    int height() const { return y1 - y0; }
+    bool operator==(const PixelRegion&) const = default;
+};
+
+// Default refinement threshold of adaptive anti-aliasing: a difference of
+// the displayed (clamped, sRGB-encoded) colour in [0, 1] (README "Adaptive
+// anti-aliasing" says how it was chosen).
+inline constexpr float kDefaultAaThreshold = 2.0f / 255.0f;
 
 // How to render a scene; zero width/height means the scene camera's size.
 struct RenderSettings {
     int width = 0;
     int height = 0;
-    int samplesPerPixel = 1;
+    int samplesPerPixel = 1;  // uniform: exactly; adaptive: at most
     int maxDepth = 6;         // secondary bounces; 0 = local shading only
     bool auxiliary = true;    // also produce the auxiliary (AOV) layers
     bool useBvh = true;       // false: test every primitive (reference for tests)
     uint32_t seed = 0;        // decorrelates sample patterns between renders
+    AntiAliasing antiAliasing = AntiAliasing::Uniform;
+    float aaThreshold = kDefaultAaThreshold;
+    // Render only these pixels of the full image (none: all of it). They get
+    // exactly the samples a full render gives them.
+    std::optional<PixelRegion> region;
     // Upper bound on camera samples per dispatch: keeps each submit short
     // (GPU watchdogs, progress updates) while amortising submit overhead.
     uint64_t samplesPerDispatch = 1u << 18;
+    // Device memory for the output layers of one band of rows; the image is
+    // rendered band by band and each band handed on when done, so memory
+    // does not grow with the image. 0: the whole image at once (the window).
+    uint64_t bandBytes = uint64_t(32) << 20;
 };
 
 }  // namespace whitted

@@ -88,7 +88,24 @@ std::array<uint32_t, 3> specializationFor(const GpuScene& scene) {
 constexpr vk::DescriptorType kBindingTypes[] = {
     vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
     vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
+    vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
     vk::DescriptorType::eStorageBuffer};
+constexpr uint32_t kStorageBindings = 9;
+
+constexpr vk::MemoryPropertyFlags kHostVisible =
+    vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent;
+
+// The region a render covers: settings.region, checked against the image.
+PixelRegion regionFor(const RenderSettings& settings, int width, int height) {
+    if (!settings.region) return {0, 0, width, height};
+    const PixelRegion& r = *settings.region;
+    if (r.x0 < 0 || r.y0 < 0 || r.x1 > width || r.y1 > height || r.x0 >= r.x1 || r.y0 >= r.y1)
+        throw std::invalid_argument("region " + std::to_string(r.x0) + "," + std::to_string(r.y0) + "," +
+                                    std::to_string(r.x1) + "," + std::to_string(r.y1) +
+                                    " is empty or outside the " + std::to_string(width) + "x" +
+                                    std::to_string(height) + " image");
+    return r;
+}
 
 }  // namespace
 
@@ -102,22 +119,45 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     if (settings.maxDepth < 0 || settings.maxDepth > int(gpu::kMaxDepthLimit))
         throw std::runtime_error("max depth must be in 0.." + std::to_string(gpu::kMaxDepthLimit) + ", got " +
                                  std::to_string(settings.maxDepth));
-
-    // The output holds every layer of the whole image; refuse clearly what
-    // the device can not address rather than fail inside the driver.
     layerCount_ = settings.auxiliary ? gpu::kAovCount : 1;
-    vk::DeviceSize outputSize = vk::DeviceSize(layerCount_) * scene_.width * scene_.height * sizeof(glm::vec4);
-    vk::DeviceSize maxRange = ctx.physicalDevice.getProperties().limits.maxStorageBufferRange;
-    if (outputSize > maxRange)
-        throw std::runtime_error("the image and its auxiliary layers need " + std::to_string(outputSize >> 20) +
-                                 " MiB, more than this device's storage buffer limit of " +
-                                 std::to_string(maxRange >> 20) + " MiB; render smaller or with --aov none");
+    layout_ = {.fullWidth = scene_.width, .fullHeight = scene_.height,
+               .region = regionFor(settings, scene_.width, scene_.height), .layerCount = layerCount_};
 
-    auto hostVisible = vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent;
-    params_ = createBuffer(ctx, sizeof(gpu::FrameParams), vk::BufferUsageFlagBits::eUniformBuffer, hostVisible);
-    output_ = createDeviceBuffer(ctx, nullptr, outputSize, kStorage | vk::BufferUsageFlagBits::eTransferSrc);
-    counters_ = createBuffer(ctx, sizeof(gpu::RayCounters), kStorage, hostVisible);
-    vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1}, {vk::DescriptorType::eStorageBuffer, 6}};
+    // Bands of whole rows of the region, as many rows as bandBytes pays for
+    // (output layers, plus the adaptive pass's list, statistics and guide),
+    // and never more than one storage buffer can address. bandBytes 0 keeps
+    // the whole image (the window draws from it).
+    const PixelRegion& region = layout_.region;
+    bool adaptive = settings.antiAliasing == AntiAliasing::Adaptive;
+    vk::DeviceSize maxRange = ctx.physicalDevice.getProperties().limits.maxStorageBufferRange;
+    vk::DeviceSize outputRow = vk::DeviceSize(layerCount_) * region.width() * sizeof(glm::vec4);
+    // The adaptive passes trace a border of up to `border` pixels around the band.
+    uint32_t border = adaptive ? uint32_t(refinementLevels(uint32_t(settings.samplesPerPixel)).size()) : 0;
+    vk::DeviceSize rowBytes = outputRow + (adaptive ? vk::DeviceSize(region.width() + 2 * border) * (4 + 32 + 16) : 0);
+    if (settings.bandBytes == 0) {
+        bandRows_ = uint32_t(region.height());
+        if (outputRow * bandRows_ > maxRange)
+            throw std::runtime_error("the image and its auxiliary layers need " +
+                                     std::to_string((outputRow * bandRows_) >> 20) +
+                                     " MiB, more than this device's storage buffer limit of " +
+                                     std::to_string(maxRange >> 20) + " MiB; render smaller or with --aov none");
+    } else {
+        vk::DeviceSize rows = std::min(settings.bandBytes / rowBytes, maxRange / outputRow);
+        bandRows_ = uint32_t(std::clamp<vk::DeviceSize>(rows, 1, vk::DeviceSize(region.height())));
+    }
+
+    size_t bandPixels = size_t(bandRows_ + 2 * border) * (region.width() + 2 * border);
+    params_ = createBuffer(ctx, sizeof(gpu::FrameParams), vk::BufferUsageFlagBits::eUniformBuffer, kHostVisible);
+    output_ = createDeviceBuffer(ctx, nullptr, outputRow * bandRows_, kStorage | vk::BufferUsageFlagBits::eTransferSrc);
+    counters_ = createBuffer(ctx, sizeof(gpu::RayCounters), kStorage, kHostVisible);
+    size_t guidePixels = adaptive ? bandPixels : 1;
+    pixelList_ = createBuffer(ctx, (adaptive ? bandPixels : 1) * sizeof(uint32_t), kStorage, kHostVisible);
+    sampleStats_ = createBuffer(ctx, (adaptive ? bandPixels : 1) * 2 * sizeof(glm::uvec4), kStorage, kHostVisible);
+    guide_ = createBuffer(ctx, guidePixels * sizeof(glm::uvec4), kStorage, kHostVisible);
+    if (settings.bandBytes != 0)
+        readback_ = createBuffer(ctx, outputRow * bandRows_, vk::BufferUsageFlagBits::eTransferDst, kHostVisible);
+    vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1},
+                                          {vk::DescriptorType::eStorageBuffer, kStorageBindings}};
     descriptorPool_ = vk::raii::DescriptorPool(
         ctx.device, vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
                                                  .maxSets = 1, .poolSizeCount = 2, .pPoolSizes = poolSizes});
@@ -153,7 +193,8 @@ void Renderer::uploadScene() {
     materials_ = createDeviceBuffer(ctx_, scene_.materials.data(), scene_.materials.size() * sizeof(gpu::Material), kStorage);
     lights_ = createDeviceBuffer(ctx_, scene_.lights.data(), scene_.lights.size() * sizeof(gpu::Light), kStorage);
     bvhNodes_ = createDeviceBuffer(ctx_, scene_.bvhNodes.data(), scene_.bvhNodes.size() * sizeof(gpu::BvhNode), kStorage);
-    const Buffer* buffers[] = {&params_, &primitives_, &materials_, &lights_, &output_, &counters_, &bvhNodes_};
+    const Buffer* buffers[] = {&params_,  &primitives_, &materials_, &lights_,      &output_,
+                               &counters_, &bvhNodes_,  &pixelList_, &guide_, &sampleStats_};
     std::vector<vk::DescriptorBufferInfo> infos;
     for (const Buffer* b : buffers) infos.push_back({*b->buffer, 0, VK_WHOLE_SIZE});
     std::vector<vk::WriteDescriptorSet> writes;
@@ -162,7 +203,7 @@ void Renderer::uploadScene() {
                           .descriptorType = kBindingTypes[i], .pBufferInfo = &infos[i]});
     ctx_.device.updateDescriptorSets(writes, nullptr);
     uploadSeconds_ = secondsSince(start);
-    deviceBytes_ = 0;
+    deviceBytes_ = readback_.size;
     for (const Buffer* b : buffers) deviceBytes_ += b->size;
 }
 
@@ -198,22 +239,31 @@ void Renderer::recordClear(const vk::raii::CommandBuffer& cmd) const {
     cmd.fillBuffer(*output_.buffer, 0, VK_WHOLE_SIZE, 0);
 }
 
+void Renderer::recordDispatch(const vk::raii::CommandBuffer& cmd, const gpu::TileParams& params, uint32_t groupsX,
+                              uint32_t groupsY) const {
+    vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite |
+                                                  vk::AccessFlagBits::eHostWrite,
+                                 .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer |
+                            vk::PipelineStageFlagBits::eHost,
+                        vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
+    cmd.pushConstants<gpu::TileParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, params);
+    cmd.dispatch(groupsX, groupsY, 1);
+}
+
 // One dispatch per kMaxSamplesPerInvocation samples of the range (lavapipe's
 // loop cap, see above), each after a barrier on the ones before.
 void Renderer::recordTile(const vk::raii::CommandBuffer& cmd, const gpu::TileParams& tile) const {
+    if (settings_.bandBytes != 0) throw std::logic_error("Renderer::recordTile needs the whole image resident");
     cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_.pipeline);
     cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipeline_.layout, 0, *descriptorSet_, nullptr);
     for (uint32_t done = 0; done < tile.samples.y; done += kMaxSamplesPerInvocation) {
         gpu::TileParams part = tile;
-        part.samples.x = tile.samples.x + done;
-        part.samples.y = std::min(kMaxSamplesPerInvocation, tile.samples.y - done);
-        vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
-                                     .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
-        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
-                            vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
-        cmd.pushConstants<gpu::TileParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, part);
-        cmd.dispatch((tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
-                     (tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize, 1);
+        part.samples = glm::uvec4(tile.samples.x + done, std::min(kMaxSamplesPerInvocation, tile.samples.y - done),
+                                  uint32_t(settings_.samplesPerPixel), 0u);
+        part.outputRect = glm::uvec4(0, 0, scene_.width, scene_.height);
+        recordDispatch(cmd, part, (tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
+                       (tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize);
     }
 }
 
@@ -240,97 +290,244 @@ RenderResult Renderer::readMeans() const {
     return result;
 }
 
-// Tiles of kTileSize^2 pixels; each tile's samples are split into chunks so
-// that no dispatch traces more than settings.samplesPerDispatch camera
-// samples. Sample indices are global, so the split changes only the order of
-// the floating-point sums, not which samples are traced.
-std::vector<Renderer::WorkItem> Renderer::planWork() const {
-    std::vector<WorkItem> items;
-    uint32_t spp = uint32_t(settings_.samplesPerPixel);
-    for (uint32_t y = 0; y < uint32_t(scene_.height); y += kTileSize)
-        for (uint32_t x = 0; x < uint32_t(scene_.width); x += kTileSize) {
-            uint32_t w = std::min(kTileSize, uint32_t(scene_.width) - x);
-            uint32_t h = std::min(kTileSize, uint32_t(scene_.height) - y);
-            uint32_t chunk = uint32_t(std::clamp<uint64_t>(std::max<uint64_t>(settings_.samplesPerDispatch, 1) / (uint64_t(w) * h), 1, spp));
-            chunk = std::min(chunk, kMaxSamplesPerInvocation);
-            for (uint32_t s = 0; s < spp; s += chunk) {
-                uint32_t n = std::min(chunk, spp - s);
-                items.push_back({.tile = {.tile = glm::uvec4(x, y, w, h), .samples = glm::uvec4(s, n, 0, 0)},
-                                 .samples = uint64_t(w) * h * n});
-            }
+// Dispatches go to the queue in batches of kDispatchesPerSubmit, each after
+// a barrier (later dispatches may accumulate into the same pixels); the ray
+// counters are read, and the camera rays checked, once per batch.
+class Renderer::Batch {
+public:
+    Batch(const Renderer& renderer, RenderResult& result)
+        : renderer_(renderer), result_(result),
+          commandBuffers_(renderer.ctx_.device, {.commandPool = *renderer.ctx_.commandPool,
+                                                 .level = vk::CommandBufferLevel::ePrimary, .commandBufferCount = 1}),
+          fence_(renderer.ctx_.device, vk::FenceCreateInfo{}) {}
+
+    // One dispatch; `cameraSamples` = pixels x samples it traces.
+    void add(const gpu::TileParams& params, uint32_t groupsX, uint32_t groupsY, uint64_t cameraSamples) {
+        vk::raii::CommandBuffer& cmd = commandBuffers_.front();
+        if (recorded_ == 0) {
+            *static_cast<gpu::RayCounters*>(renderer_.counters_.mapped) = {};
+            cmd.reset();
+            cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
+            cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *renderer_.pipeline_.pipeline);
+            cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *renderer_.pipeline_.layout, 0,
+                                   *renderer_.descriptorSet_, nullptr);
         }
-    return items;
-}
-
-RenderResult Renderer::render(const ProgressCallback& progress) {
-    auto start = Clock::now();
-    std::vector<WorkItem> work = planWork();
-    uint64_t totalSamples = 0, doneSamples = 0;
-    for (const WorkItem& item : work) totalSamples += item.samples;
-
-    RenderResult result;
-    result.width = scene_.width;
-    result.height = scene_.height;
-    result.samplesPerPixel = settings_.samplesPerPixel;
-    result.hasAuxiliary = settings_.auxiliary;
-
-    vk::raii::CommandBuffers commandBuffers(ctx_.device, {.commandPool = *ctx_.commandPool,
-                                                          .level = vk::CommandBufferLevel::ePrimary,
-                                                          .commandBufferCount = 1});
-    vk::raii::CommandBuffer& cmd = commandBuffers.front();
-    vk::raii::Fence fence(ctx_.device, vk::FenceCreateInfo{});
-    auto* counters = static_cast<gpu::RayCounters*>(counters_.mapped);
-
-    // Dispatches go to the queue in batches of kDispatchesPerSubmit, each
-    // followed by a barrier (later dispatches may accumulate into the same
-    // pixels); the ray counters are read once per batch.
-    for (size_t begin = 0; begin < work.size(); begin += kDispatchesPerSubmit) {
-        size_t end = std::min(work.size(), begin + kDispatchesPerSubmit);
-        *counters = {};
-        cmd.reset();
-        cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
-        uint64_t batchSamples = 0;
-        for (size_t i = begin; i < end; ++i) {
-            recordTile(cmd, work[i].tile);
-            batchSamples += work[i].samples;
-        }
-        vk::MemoryBarrier toHost{.srcAccessMask = vk::AccessFlagBits::eShaderWrite,
-                                 .dstAccessMask = vk::AccessFlagBits::eHostRead};
-        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {}, toHost,
-                            nullptr, nullptr);
-        cmd.end();
-
-        vk::CommandBuffer raw = *cmd;
-        ctx_.queue.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &raw}, *fence);
-        vk::Result waited = ctx_.device.waitForFences(*fence, VK_TRUE, UINT64_MAX);
-        if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
-        ctx_.device.resetFences(*fence);
-
-        // One camera ray per sample: fewer means the driver cut a run short.
-        if (counters->primary < batchSamples) result.lostSamples += batchSamples - counters->primary;
-        result.rays.primary += counters->primary;
-        result.rays.shadow += counters->shadow;
-        result.rays.secondary += counters->secondary;
-        doneSamples += batchSamples;
-        if (progress) progress(double(doneSamples) / double(totalSamples));
+        renderer_.recordDispatch(cmd, params, groupsX, groupsY);
+        expected_ += cameraSamples;
+        if (++recorded_ == kDispatchesPerSubmit) flush();
     }
 
-    // Read back and turn sums into means (the w channel of the colour layers
-    // holds the sample count; the hit-mask layers average the same way).
-    size_t pixels = size_t(scene_.width) * scene_.height;
-    std::vector<float> raw(pixels * 4 * layerCount_);
-    readBuffer(ctx_, output_, raw.data(), raw.size() * sizeof(float));
-    float inverseSpp = 1.0f / float(settings_.samplesPerPixel);
-    for (uint32_t layer = 0; layer < layerCount_; ++layer) {
-        auto& out = result.layers[layer];
-        out.assign(raw.begin() + layer * pixels * 4, raw.begin() + (layer + 1) * pixels * 4);
-        for (float& v : out) v *= inverseSpp;
+    // Submits what is recorded, with `copyBand` bytes of the output buffer
+    // copied to the read-back buffer after it, and waits.
+    void flush(vk::DeviceSize copyBand = 0) {
+        vk::raii::CommandBuffer& cmd = commandBuffers_.front();
+        if (recorded_ == 0 && copyBand == 0) return;
+        if (recorded_ == 0) {
+            *static_cast<gpu::RayCounters*>(renderer_.counters_.mapped) = {};
+            cmd.reset();
+            cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
+        }
+        if (copyBand > 0) {
+            vk::MemoryBarrier toCopy{.srcAccessMask = vk::AccessFlagBits::eShaderWrite,
+                                     .dstAccessMask = vk::AccessFlagBits::eTransferRead};
+            cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eTransfer, {},
+                                toCopy, nullptr, nullptr);
+            cmd.copyBuffer(*renderer_.output_.buffer, *renderer_.readback_.buffer, vk::BufferCopy{0, 0, copyBand});
+        }
+        vk::MemoryBarrier toHost{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
+                                 .dstAccessMask = vk::AccessFlagBits::eHostRead};
+        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
+                            vk::PipelineStageFlagBits::eHost, {}, toHost, nullptr, nullptr);
+        cmd.end();
+        vk::CommandBuffer raw = *cmd;
+        renderer_.ctx_.queue.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &raw}, *fence_);
+        vk::Result waited = renderer_.ctx_.device.waitForFences(*fence_, VK_TRUE, UINT64_MAX);
+        if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
+        renderer_.ctx_.device.resetFences(*fence_);
+
+        // One camera ray per sample: fewer means the driver cut a run short.
+        const auto* counters = static_cast<const gpu::RayCounters*>(renderer_.counters_.mapped);
+        if (counters->primary < expected_) result_.lostSamples += expected_ - counters->primary;
+        result_.rays.primary += counters->primary;
+        result_.rays.shadow += counters->shadow;
+        result_.rays.secondary += counters->secondary;
+        result_.samplesTaken += expected_;
+        recorded_ = 0;
+        expected_ = 0;
+    }
+
+private:
+    const Renderer& renderer_;
+    RenderResult& result_;
+    vk::raii::CommandBuffers commandBuffers_;
+    vk::raii::Fence fence_;
+    size_t recorded_ = 0;
+    uint64_t expected_ = 0;
+};
+
+namespace {
+
+// Tiles of at most kTileSize^2 pixels covering `rect`.
+template <typename F>
+void forEachTile(const PixelRect& rect, F&& f) {
+    for (uint32_t y = 0; y < rect.height; y += kTileSize)
+        for (uint32_t x = 0; x < rect.width; x += kTileSize)
+            f(PixelRect{rect.x0 + x, rect.y0 + y, std::min(kTileSize, rect.width - x), std::min(kTileSize, rect.height - y)});
+}
+
+glm::uvec4 asUvec4(const PixelRect& r) { return {r.x0, r.y0, r.width, r.height}; }
+
+uint32_t groupsFor(uint32_t n) { return (n + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize; }
+
+}  // namespace
+
+// Every pixel of the band takes samples [0, spp) of the spp pattern, in
+// dispatches of at most samplesPerDispatch camera samples and
+// kMaxSamplesPerInvocation samples a pixel; the first replaces the band
+// buffer's old sums. Sample indices are global, so the split changes only
+// the grouping, never which samples are traced or the order they are added.
+void Renderer::renderBandUniform(Batch& batch, const PixelRect& band) {
+    uint32_t spp = uint32_t(settings_.samplesPerPixel);
+    forEachTile(band, [&](const PixelRect& tile) {
+        uint64_t pixels = uint64_t(tile.width) * tile.height;
+        uint32_t chunk = uint32_t(std::clamp<uint64_t>(std::max<uint64_t>(settings_.samplesPerDispatch, 1) / pixels, 1, spp));
+        chunk = std::min(chunk, kMaxSamplesPerInvocation);
+        for (uint32_t s = 0; s < spp; s += chunk) {
+            uint32_t n = std::min(chunk, spp - s);
+            gpu::TileParams params{.tile = asUvec4(tile),
+                                   .samples = glm::uvec4(s, n, spp, s == 0 ? gpu::kTileOverwrite : 0u),
+                                   .outputRect = asUvec4(band)};
+            batch.add(params, groupsFor(tile.width), groupsFor(tile.height), pixels * n);
+        }
+    });
+}
+
+// Adaptive anti-aliasing (render/adaptive.h): the centre sample of every
+// pixel of the band and of its one-pixel border (the border only feeds the
+// guide), then refinement passes over the pixels that need them.
+void Renderer::renderBandAdaptive(Batch& batch, const PixelRect& band) {
+    // Level k's pixels are decided on the band grown by L - k + 1 pixels
+    // (L levels), from level k - 1's samples one pixel further out: each
+    // level is traced in a border one pixel narrower, down to the band.
+    std::vector<uint32_t> levels = refinementLevels(uint32_t(settings_.samplesPerPixel));
+    uint32_t border = uint32_t(levels.size());
+    uint32_t width = uint32_t(scene_.width), height = uint32_t(scene_.height);
+    PixelRect guideRect = grow(band, border, width, height);
+    forEachTile(guideRect, [&](const PixelRect& tile) {
+        gpu::TileParams params{.tile = asUvec4(tile),
+                               .samples = glm::uvec4(0, 1, 1, gpu::kTileOverwrite | gpu::kTileGuide),
+                               .outputRect = asUvec4(band),
+                               .guideRect = asUvec4(guideRect)};
+        batch.add(params, groupsFor(tile.width), groupsFor(tile.height), uint64_t(tile.width) * tile.height);
+    });
+    batch.flush();
+    if (levels.empty()) return;
+    std::vector<uint32_t> list = pixelsToRefine(
+        std::span(static_cast<const glm::uvec4*>(guide_.mapped), size_t(guideRect.width) * guideRect.height), guideRect,
+        grow(band, border - 1, width, height), settings_.aaThreshold);
+
+    for (size_t level = 0; level < levels.size() && !list.empty(); ++level) {
+        uint32_t n = levels[level];
+        std::memcpy(pixelList_.mapped, list.data(), list.size() * sizeof(uint32_t));
+        // Slices of the list small enough for samplesPerDispatch.
+        uint32_t chunk = std::min(n, kMaxSamplesPerInvocation);
+        uint32_t slice = uint32_t(std::max<uint64_t>(settings_.samplesPerDispatch / chunk, gpu::kListGroupSize));
+        for (uint32_t first = 0; first < list.size(); first += slice) {
+            uint32_t count = std::min<uint32_t>(slice, uint32_t(list.size()) - first);
+            for (uint32_t s = 0; s < n; s += chunk) {
+                uint32_t k = std::min(chunk, n - s);
+                uint32_t flags = gpu::kTileList | gpu::kTileStats | (s == 0 ? gpu::kTileOverwrite : 0u);
+                gpu::TileParams params{.tile = glm::uvec4(first, count, 0, 0),
+                                       .samples = glm::uvec4(s, k, n, flags),
+                                       .outputRect = asUvec4(band)};
+                batch.add(params, (count + gpu::kListGroupSize - 1) / gpu::kListGroupSize, 1, uint64_t(count) * k);
+            }
+        }
+        batch.flush();
+        if (level + 1 == levels.size()) break;
+        list = pixelsStillVarying(list, std::span(static_cast<const glm::uvec4*>(sampleStats_.mapped), 2 * list.size()),
+                                  settings_.aaThreshold, grow(band, border - 2 - uint32_t(level), width, height));
+    }
+}
+
+RenderResult Renderer::renderTo(BandSink& sink, const ProgressCallback& progress) {
+    if (settings_.bandBytes == 0) throw std::logic_error("Renderer::renderTo needs bands (RenderSettings::bandBytes)");
+    auto start = Clock::now();
+    RenderResult result;
+    result.width = layout_.region.width();
+    result.height = layout_.region.height();
+    result.samplesPerPixel = settings_.samplesPerPixel;
+    result.hasAuxiliary = settings_.auxiliary;
+    result.layout = layout_;
+    Batch batch(*this, result);
+
+    const PixelRegion& region = layout_.region;
+    std::vector<float> counts;
+    for (int y = region.y0; y < region.y1; y += int(bandRows_)) {
+        PixelRect band{uint32_t(region.x0), uint32_t(y), uint32_t(region.width()),
+                       uint32_t(std::min<int>(int(bandRows_), region.y1 - y))};
+        if (settings_.antiAliasing == AntiAliasing::Adaptive)
+            renderBandAdaptive(batch, band);
+        else
+            renderBandUniform(batch, band);
+        size_t pixels = size_t(band.width) * band.height;
+        batch.flush(vk::DeviceSize(layerCount_) * pixels * sizeof(glm::vec4));
+
+        // Sums to means: every layer of a pixel over the samples it took
+        // (w of its colour layer); the hit-mask layers average the same way.
+        // In place, in the mapped read-back buffer: no host copy of the band.
+        float* raw = static_cast<float*>(readback_.mapped);
+        counts.resize(pixels);
+        for (size_t i = 0; i < pixels; ++i) counts[i] = raw[i * 4 + 3];
+        for (uint32_t layer = 0; layer < layerCount_; ++layer)
+            for (size_t i = 0; i < pixels; ++i) {
+                float inverse = counts[i] > 0 ? 1.0f / counts[i] : 0.0f;
+                for (int c = 0; c < 4; ++c) raw[(layer * pixels + i) * 4 + c] *= inverse;
+            }
+        std::span<const float> means(raw, size_t(layerCount_) * pixels * 4);
+        sink.writeBand({.y0 = y, .rows = int(band.height), .width = int(band.width), .layers = means,
+                        .sampleCounts = counts});
+        ++result.bands;
+        if (progress) progress(double(y + int(band.height) - region.y0) / double(region.height()));
     }
     result.renderSeconds = secondsSince(start);
     result.uploadSeconds = uploadSeconds_;
     result.pipelineSeconds = pipelineSeconds_;
     result.deviceBytes = deviceBytes_;
     result.bvh = scene_.bvhStats;
+    return result;
+}
+
+namespace {
+// Keeps every band in a RenderResult's layers.
+class MemorySink final : public BandSink {
+public:
+    explicit MemorySink(RenderResult& result) : result_(result) {
+        size_t pixels = size_t(result.layout.region.width()) * result.layout.region.height();
+        for (uint32_t l = 0; l < result.layout.layerCount; ++l) result_.layers[l].resize(pixels * 4);
+        result_.sampleCounts.resize(pixels);
+    }
+    void writeBand(const BandView& band) override {
+        size_t offset = size_t(band.y0 - result_.layout.region.y0) * band.width;
+        for (uint32_t l = 0; l < result_.layout.layerCount; ++l) {
+            std::span<const float> from = band.layer(l);
+            std::copy(from.begin(), from.end(), result_.layers[l].begin() + offset * 4);
+        }
+        std::copy(band.sampleCounts.begin(), band.sampleCounts.end(), result_.sampleCounts.begin() + offset);
+    }
+
+private:
+    RenderResult& result_;
+};
+}  // namespace
+
+RenderResult Renderer::render(const ProgressCallback& progress) {
+    RenderResult pixels;
+    pixels.layout = layout_;
+    MemorySink sink(pixels);
+    RenderResult result = renderTo(sink, progress);
+    result.layers = std::move(pixels.layers);
+    result.sampleCounts = std::move(pixels.sampleCounts);
     return result;
 }
 

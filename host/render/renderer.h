@@ -3,6 +3,8 @@
 #pragma once
 
 #include "device_types.h"
+#include "render/adaptive.h"
+#include "render/band_sink.h"
 #include "render/gpu_scene.h"
 #include "render/render_settings.h"
 #include "vk/buffer.h"
@@ -22,12 +24,19 @@ struct RayStats {
 };
 
 // Linear float RGBA layers, averaged over samples, row-major from the top.
+// width x height is the region rendered (the whole image unless
+// RenderSettings::region says otherwise).
 struct RenderResult {
     int width = 0;
     int height = 0;
-    int samplesPerPixel = 0;
+    int samplesPerPixel = 0;  // uniform: every pixel's count; adaptive: the maximum
     bool hasAuxiliary = false;
+    // Filled by Renderer::render; empty after renderTo (the sink had them).
     std::array<std::vector<float>, gpu::kAovCount> layers;  // only kAovColor without auxiliary
+    std::vector<float> sampleCounts;  // samples each pixel took
+    ImageLayout layout;
+    uint64_t samplesTaken = 0;  // camera samples over all pixels
+    int bands = 0;              // bands of rows the region was rendered in
     RayStats rays;
     BvhStats bvh;
     double uploadSeconds = 0;  // buffer uploads (the BVH build is bvh.buildSeconds)
@@ -45,7 +54,12 @@ using ProgressCallback = std::function<void(double)>;
 class Renderer {
 public:
     Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings& settings);
+    // Renders the region band by band into `sink` (rows top to bottom); the
+    // result carries the statistics, not the pixels.
+    RenderResult renderTo(BandSink& sink, const ProgressCallback& progress = {});
+    // The same, with every band kept in the result's layers.
     RenderResult render(const ProgressCallback& progress = {});
+    const ImageLayout& layout() const { return layout_; }
 
     // Progressive use (`whitted view`): the output buffer keeps its sums
     // between calls and the caller records the dispatches into its own
@@ -56,8 +70,9 @@ public:
     void setCamera(const Camera& camera);  // rewrites the camera in the uniform block only
     void recordClear(const vk::raii::CommandBuffer& cmd) const;  // zero the sums
     // One dispatch over `tile` (pixels x0, y0, width, height) with samples
-    // [first, first + count) of samplesPerPixel, after a barrier on earlier ones
-    // (split into dispatches of at most 4 samples: lavapipe's loop cap).
+    // [first, first + count) of samplesPerPixel, added to the sums of the
+    // whole image, after a barrier on earlier ones (split into dispatches of
+    // at most 4 samples: lavapipe's loop cap). Needs bandBytes = 0.
     void recordTile(const vk::raii::CommandBuffer& cmd, const gpu::TileParams& tile) const;
     // Reads the sums back as means, each pixel divided by its own sample
     // count (the w of the colour layer), so a partly finished pass reads right.
@@ -70,11 +85,11 @@ public:
     const RenderSettings& settings() const { return settings_; }
 
 private:
-    struct WorkItem {
-        gpu::TileParams tile;
-        uint64_t samples;  // pixels x samples, for progress
-    };
-    std::vector<WorkItem> planWork() const;
+    class Batch;
+    void recordDispatch(const vk::raii::CommandBuffer& cmd, const gpu::TileParams& params, uint32_t groupsX,
+                        uint32_t groupsY) const;
+    void renderBandUniform(Batch& batch, const PixelRect& band);
+    void renderBandAdaptive(Batch& batch, const PixelRect& band);
     void buildPipeline();
     void uploadScene();
 
@@ -84,7 +99,13 @@ private:
     ComputePipeline pipeline_;
     std::array<uint32_t, 3> specialization_{};  // what pipeline_ was specialised for
     uint32_t layerCount_;
+    ImageLayout layout_;
+    uint32_t bandRows_ = 0;  // rows of the region per band
     Buffer params_, primitives_, materials_, lights_, output_, counters_, bvhNodes_;
+    // Adaptive anti-aliasing: pixel list, first-pass guide, sample
+    // statistics (host-visible: the host reads and writes them between
+    // passes); and the band's read-back staging buffer.
+    Buffer pixelList_, guide_, sampleStats_, readback_;
     vk::raii::DescriptorPool descriptorPool_{nullptr};
     vk::raii::DescriptorSet descriptorSet_{nullptr};
     double uploadSeconds_ = 0;

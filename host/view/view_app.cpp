@@ -141,6 +141,12 @@ private:
         s.width = size.x;
         s.height = size.y;
         s.auxiliary = true;
+        // The window draws from the renderer's sums of the whole image, and
+        // refines uniformly: every pass adds samples to every pixel, so the
+        // picture sharpens evenly and the final sums equal render's
+        // --aa uniform (README "Live window").
+        s.bandBytes = 0;
+        s.antiAliasing = AntiAliasing::Uniform;
         return s;
     }
 
