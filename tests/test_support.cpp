@@ -3,12 +3,19 @@
 #include "scene/scene_loader.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <sys/wait.h>
 
 namespace whitted::test {
+namespace {
+// No test may depend on pipelines an earlier run left in the user's cache
+// folder: the executables the tests start inherit this and keep none
+// (PipelineCache.* gives the cache folders of their own).
+[[maybe_unused]] const bool kPipelineCacheOff = ::setenv("WHITTED_PIPELINE_CACHE", "0", 1) == 0;
+}  // namespace
 
 VulkanContext& testContext() {
-    static VulkanContext ctx({.validation = true, .deviceName = ""});
+    static VulkanContext ctx({.validation = true, .deviceName = "", .pipelineCacheFolder = std::filesystem::path()});
     return ctx;
 }
 

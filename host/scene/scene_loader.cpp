@@ -810,6 +810,11 @@ Scene loadSceneFromString(std::string_view xml, const std::filesystem::path& nam
         throw SceneError(name.string(), 1, "the file is UTF-16; a scene file is UTF-8 XML text");
     if (size_t nul = xml.find('\0'); nul != std::string_view::npos)
         throw SceneError(name.string(), lineOf(xml, nul), "NUL byte; a scene file is UTF-8 XML text, not binary data");
+    // Nothing but XML whitespace, after a UTF-8 byte order mark if any
+    // (tinyxml2 calls most of these XML_ERROR_EMPTY_DOCUMENT).
+    std::string_view content = xml.starts_with("\xEF\xBB\xBF") ? xml.substr(3) : xml;
+    if (content.find_first_not_of(" \t\r\n") == std::string_view::npos)
+        throw SceneError(name.string(), 1, "the file is empty, expected a <scene> document");
     tinyxml2::XMLDocument doc;
     if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
         throw SceneError(name.string(), doc.ErrorLineNum(), xmlErrorMessage(doc));

@@ -42,8 +42,10 @@ ImGuiLayer::ImGuiLayer(VulkanContext& ctx, GLFWwindow* window, Presenter& presen
     info.MinImageCount = presenter.minImageCount();
     info.ImageCount = std::max(presenter.imageCount(), presenter.minImageCount());
     info.MSAASamples = VK_SAMPLE_COUNT_1_BIT;
+    info.PipelineCache = *ctx.pipelineCache->cache();  // its graphics pipeline, kept like ours
     info.CheckVkResultFn = checkVk;
     if (!ImGui_ImplVulkan_Init(&info, presenter.renderPass())) throw std::runtime_error("ImGui_ImplVulkan_Init failed");
+    ctx.pipelineCache->save();
     presenter.immediate([](vk::raii::CommandBuffer& cmd) { ImGui_ImplVulkan_CreateFontsTexture(*cmd); });
     ImGui_ImplVulkan_DestroyFontUploadObjects();
 }

@@ -25,11 +25,15 @@ ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const 
 
     vk::raii::ShaderModule module(ctx.device, vk::ShaderModuleCreateInfo{.codeSize = spirv.size_bytes(),
                                                                          .pCode = spirv.data()});
-    p.pipeline = vk::raii::Pipeline(
-        ctx.device, nullptr,
-        vk::ComputePipelineCreateInfo{.stage = {.stage = vk::ShaderStageFlagBits::eCompute, .module = *module, .pName = "main",
-                                                .pSpecializationInfo = specialization},
-                                      .layout = *p.layout});
+    // Through the context's pipeline cache, saved at once: a later run (or
+    // window) skips the driver's compilation when nothing changed.
+    p.pipeline = vk::raii::Pipeline(ctx.device, ctx.pipelineCache->cache(),
+                                    vk::ComputePipelineCreateInfo{.stage = {.stage = vk::ShaderStageFlagBits::eCompute,
+                                                                            .module = *module,
+                                                                            .pName = "main",
+                                                                            .pSpecializationInfo = specialization},
+                                                                  .layout = *p.layout});
+    ctx.pipelineCache->save();
     return p;
 }
 

@@ -180,6 +180,9 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     commandPool = vk::raii::CommandPool(device, vk::CommandPoolCreateInfo{
                                                     .flags = vk::CommandPoolCreateFlagBits::eResetCommandBuffer,
                                                     .queueFamilyIndex = queueFamily});
+    pipelineCache = std::make_unique<PipelineCache>(
+        device, physicalDevice.getProperties(),
+        options.pipelineCacheFolder ? *options.pipelineCacheFolder : pipelineCacheFolderFromEnvironment());
 }
 
 void VulkanContext::waitForFence(vk::Fence fence) {

@@ -1,10 +1,14 @@
 // Vulkan instance, device choice, logical device and compute queue.
 #pragma once
 
+#include "vk/pipeline_cache.h"
+
 #include <vulkan/vulkan_raii.hpp>
 
 #include <atomic>
+#include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,6 +34,9 @@ struct ContextOptions {
     // `canPresent`. Headless when `canPresent` is empty.
     std::vector<std::string> instanceExtensions{};
     std::function<bool(VkInstance, VkPhysicalDevice, uint32_t family)> canPresent{};
+    // The folder of the pipeline cache files (vk/pipeline_cache.h); an empty
+    // path keeps the cache in memory only. Unset: from the environment.
+    std::optional<std::filesystem::path> pipelineCacheFolder{};
 };
 
 // Owns the Vulkan objects every renderer needs. Validation messages (when
@@ -54,6 +61,9 @@ public:
     vk::raii::Queue queue{nullptr};
     uint32_t queueFamily = 0;
     vk::raii::CommandPool commandPool{nullptr};
+    // Every pipeline is created through it and saved into it
+    // (createComputePipeline); a pointer so that a const context can save.
+    std::unique_ptr<PipelineCache> pipelineCache;
 
     // Runs `record` on a one-time command buffer, submits it and waits.
     template <typename F>
