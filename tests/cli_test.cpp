@@ -190,6 +190,55 @@ TEST(Cli, TallImageStreamsWithBoundedMemory) {
         << "peak memory " << (small >> 20) << " MiB at 4096 rows, " << (tall >> 20) << " MiB at 16384 rows";
 }
 
+// --region: the crop of the full render, bit for bit, in PNG (region-sized)
+// and EXR (full display window, the region as data window), auxiliary
+// images included.
+TEST(Cli, RegionIsTheCropOfTheFullRender) {
+    fs::path dir = scratchDir("region");
+    for (std::string ext : {".png", ".exr"}) {
+        std::string opts = " --width 96 --height 72 --spp 4 --aov diffuse,depth,samples";
+        CommandRun full = runWhitted("render " + scene("room.xml") + " -o full" + ext + opts, dir);
+        ASSERT_EQ(full.status, 0) << full.output;
+        CommandRun part = runWhitted("render " + scene("room.xml") + " -o part" + ext + opts + " --region 20,10,61,50", dir);
+        ASSERT_EQ(part.status, 0) << part.output;
+        for (std::string layer : {"", ".diffuse", ".samples", ".depth"}) {
+            if (ext == ".png" && layer == ".depth") continue;  // 8-bit depth is scaled by the image's own median
+            int fw = 0, fh = 0, fc = 0, pw = 0, ph = 0, pc = 0;
+            std::vector<float> a, b;
+            readImageInto(dir / ("full" + layer + ext), fw, fh, fc, a);
+            readImageInto(dir / ("part" + layer + ext), pw, ph, pc, b);
+            ASSERT_EQ(pw, 41) << layer << ext;
+            ASSERT_EQ(ph, 40) << layer << ext;
+            for (int y = 0; y < 40; ++y)
+                for (int x = 0; x < 41; ++x)
+                    for (int c = 0; c < fc; ++c)
+                        ASSERT_EQ(a[(size_t(y + 10) * 96 + x + 20) * fc + c], b[(size_t(y) * 41 + x) * pc + c])
+                            << layer << ext << " at " << x << "," << y;
+        }
+    }
+    // The EXR keeps where the region sits in the full image.
+    std::string info = runCommand("oiiotool --info -v part.exr", dir).output;
+    EXPECT_NE(info.find("pixel data origin: x=20, y=10"), std::string::npos) << info;
+    EXPECT_NE(info.find("full/display size: 96 x 72"), std::string::npos) << info;
+}
+
+TEST(Cli, BadRegionIsRefused) {
+    fs::path dir = scratchDir("bad_region");
+    std::string base = "render " + scene("room.xml") + " -o out.png --width 64 --height 48 --region ";
+    CommandRun r = runWhitted(base + "10,10,10,20", dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("whitted: --region: region 10,10,10,20 is empty or outside the 64x48 image"),
+              std::string::npos) << r.output;
+    r = runWhitted(base + "0,0,65,48", dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("is empty or outside the 64x48 image"), std::string::npos) << r.output;
+    r = runWhitted(base + "1,2,3", dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("whitted: --region: expected X0,Y0,X1,Y1 (four integers), got '1,2,3'"), std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(dir / "out.png"));
+}
+
 TEST(Cli, DevicesListsLavapipeOrAGpu) {
     CommandRun r = runWhitted("devices");
     EXPECT_EQ(r.status, 0);
