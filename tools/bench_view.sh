@@ -16,4 +16,4 @@ start=$(date +%s%N)
 xvfb-run -a -s '-screen 0 1024x768x24' build/whitted view "$scene" --spp "$spp" --frame-ms "$frame_ms" \
   --script "$work/script.txt" | tail -1
 echo "view: $(( ($(date +%s%N) - start) / 1000000 )) ms in all (window start included)"
-build/whitted render "$scene" --spp "$spp" -o "$work/render.png" 2>&1 | tail -1
+build/whitted render "$scene" --aa uniform --spp "$spp" -o "$work/render.png" 2>&1 | tail -1

@@ -101,7 +101,7 @@ def make_scene(name, how, arg, work, whitted):
 
 def run_whitted(whitted, scene, out_png, width, height, spp):
     status, output, wall, rss = run([whitted, "render", scene, "-o", out_png, "--width", str(width),
-                                     "--height", str(height), "--spp", str(spp), "--max-depth", str(MAX_DEPTH),
+                                     "--height", str(height), "--aa", "uniform", "--spp", str(spp), "--max-depth", str(MAX_DEPTH),
                                      "--aov", "none", "-q"])
     if status != 0:
         fail(f"whitted failed on {scene} (exit {status}):\n{output}", 1)

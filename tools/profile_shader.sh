@@ -41,7 +41,7 @@ w=${size%x*}; h=${size#*x}
 for ((r = 1; r <= repeat; ++r)); do
     for v in "${variants[@]}"; do
         WHITTED_SHADER_SPV=${spv[$v]:-} build/whitted render "$scene" -o "$work/out.png" --width "$w" --height "$h" \
-            --spp "$spp" ${args[$v]} -q
+            --aa uniform --spp "$spp" ${args[$v]} -q
         python3 -c "import json,sys; r=json.load(open(sys.argv[1])); t=r['timings_s']; n=r['rays'];
 print(f\"{sys.argv[2]:28s} render {t['render']:7.3f} s  pipeline {t['pipeline']:.3f} s  {n['per_second']/1e6:6.2f} Mrays/s  \"
       f\"p {n['primary']} s {n['shadow']} r {n['secondary']}\")" "$work/out.json" "$v"
