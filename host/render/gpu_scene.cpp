@@ -2,6 +2,7 @@
 
 #include "shapes/shapes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -12,7 +13,8 @@ namespace whitted {
 static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, info) == 48);
 static_assert(sizeof(gpu::Material) == 64 && offsetof(gpu::Material, coefs1) == 48);
 static_assert(sizeof(gpu::Light) == 32);
-static_assert(sizeof(gpu::FrameParams) == 128 && offsetof(gpu::FrameParams, accel) == 112);
+static_assert(sizeof(gpu::FrameParams) == 160 && offsetof(gpu::FrameParams, accel) == 112 &&
+              offsetof(gpu::FrameParams, addresses1) == 144);
 static_assert(sizeof(gpu::BvhNode) == 32);
 static_assert(sizeof(gpu::TileParams) == 32);
 static_assert(sizeof(gpu::RayCounters) == 16);
@@ -85,6 +87,46 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
                                   settings.auxiliary ? gpu::kOptionWriteAovs : 0u, settings.seed);
     g.params.accel = glm::uvec4(g.bvhNodes.size(), bounded.size(), unbounded.size(), 0);
     return g;
+}
+
+SceneArrayCounts countSceneArrays(const Scene& scene) {
+    SceneArrayCounts counts;
+    for (const Object& object : scene.objects) counts.primitives += primitiveCount(object.shape);
+    counts.bvhNodes = std::max<uint64_t>(2 * counts.primitives, 1) - 1;
+    counts.materials = scene.objects.size();
+    counts.lights = scene.lights.size();
+    return counts;
+}
+
+std::optional<std::string> sceneArraysTooLarge(const SceneArrayCounts& counts, const BufferLimits& limits) {
+    // The shader indexes the arrays with 32-bit signed-safe indices (the BVH
+    // tags leaf entries with bit 31): at most 2^31 - 1 elements each.
+    constexpr uint64_t kMaxIndexCount = (uint64_t(1) << 31) - 1;
+    struct Array {
+        uint64_t count;
+        uint64_t elementSize;
+        const char* what;
+    };
+    const Array arrays[] = {{counts.primitives, sizeof(gpu::Primitive), "primitives (triangles count one each)"},
+                            {counts.bvhNodes, sizeof(gpu::BvhNode), "BVH nodes (at most)"},
+                            {counts.materials, sizeof(gpu::Material), "materials (one per object)"},
+                            {counts.lights, sizeof(gpu::Light), "lights"}};
+    auto mib = [](uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; };
+    for (const Array& a : arrays) {
+        uint64_t bytes = a.count * a.elementSize;
+        uint64_t limit = std::min(limits.maxBufferSize, limits.maxAllocationSize);
+        const char* name =
+            limits.maxAllocationSize <= limits.maxBufferSize ? "maxMemoryAllocationSize" : "maxBufferSize";
+        if (bytes > limit)
+            return "the scene's " + std::to_string(a.count) + " " + a.what + " need " + std::to_string(bytes) +
+                   " bytes (" + mib(bytes) + ") in one buffer, more than this device's " + name + " of " +
+                   std::to_string(limit) + " bytes (" + mib(limit) + ", " + std::to_string(limit / a.elementSize) +
+                   " of them)";
+        if (a.count > kMaxIndexCount)
+            return "the scene's " + std::to_string(a.count) + " " + a.what +
+                   " are more than the shader's 32-bit indices address (" + std::to_string(kMaxIndexCount) + ")";
+    }
+    return std::nullopt;
 }
 
 }  // namespace whitted

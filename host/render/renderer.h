@@ -39,6 +39,11 @@ struct RenderResult {
     uint64_t lostSamples = 0;
 };
 
+// What one scene array may take on the device: its maxBufferSize (Vulkan 1.3
+// or VK_KHR_maintenance4) and maxMemoryAllocationSize. The Renderer refuses
+// a scene whose arrays exceed them (sceneArraysTooLarge) before packing it.
+BufferLimits sceneBufferLimits(const VulkanContext& ctx);
+
 // Fraction of the work done so far, in [0, 1].
 using ProgressCallback = std::function<void(double)>;
 

@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 namespace whitted {
 
@@ -26,15 +27,28 @@ Buffer createBuffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsa
                     vk::MemoryPropertyFlags properties) {
     Buffer b;
     b.size = std::max<vk::DeviceSize>(size, 16);  // zero-sized buffers are invalid
-    b.buffer = vk::raii::Buffer(ctx.device, vk::BufferCreateInfo{.size = b.size, .usage = usage,
-                                                                  .sharingMode = vk::SharingMode::eExclusive});
-    auto req = b.buffer.getMemoryRequirements();
-    vk::MemoryPropertyFlags preferred = properties;
-    if (properties & vk::MemoryPropertyFlagBits::eHostVisible) preferred |= vk::MemoryPropertyFlagBits::eHostCached;
-    uint32_t type = findMemoryType(ctx.physicalDevice, req.memoryTypeBits, properties, preferred);
-    b.memory = vk::raii::DeviceMemory(ctx.device, vk::MemoryAllocateInfo{.allocationSize = req.size, .memoryTypeIndex = type});
-    b.buffer.bindMemory(*b.memory, 0);
-    if (properties & vk::MemoryPropertyFlagBits::eHostVisible) b.mapped = b.memory.mapMemory(0, VK_WHOLE_SIZE);
+    try {
+        b.buffer = vk::raii::Buffer(ctx.device, vk::BufferCreateInfo{.size = b.size, .usage = usage,
+                                                                      .sharingMode = vk::SharingMode::eExclusive});
+        auto req = b.buffer.getMemoryRequirements();
+        vk::MemoryPropertyFlags preferred = properties;
+        if (properties & vk::MemoryPropertyFlagBits::eHostVisible) preferred |= vk::MemoryPropertyFlagBits::eHostCached;
+        uint32_t type = findMemoryType(ctx.physicalDevice, req.memoryTypeBits, properties, preferred);
+        bool addressed = bool(usage & vk::BufferUsageFlagBits::eShaderDeviceAddress);
+        vk::MemoryAllocateFlagsInfo flags{.flags = vk::MemoryAllocateFlagBits::eDeviceAddress};
+        b.memory = vk::raii::DeviceMemory(ctx.device, vk::MemoryAllocateInfo{.pNext = addressed ? &flags : nullptr,
+                                                                             .allocationSize = req.size,
+                                                                             .memoryTypeIndex = type});
+        b.buffer.bindMemory(*b.memory, 0);
+        if (properties & vk::MemoryPropertyFlagBits::eHostVisible) b.mapped = b.memory.mapMemory(0, VK_WHOLE_SIZE);
+        if (addressed) b.address = ctx.device.getBufferAddress({.buffer = *b.buffer});
+    } catch (const vk::OutOfDeviceMemoryError& e) {
+        throw std::runtime_error("out of device memory for a buffer of " + std::to_string(b.size) + " bytes (" +
+                                 std::to_string(b.size >> 20) + " MiB): " + e.what());
+    } catch (const vk::OutOfHostMemoryError& e) {
+        throw std::runtime_error("out of host memory for a buffer of " + std::to_string(b.size) + " bytes (" +
+                                 std::to_string(b.size >> 20) + " MiB): " + e.what());
+    }
     return b;
 }
 
