@@ -42,6 +42,25 @@ void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p
     p.up = glm::vec4(glm::vec3(up * tanHalf), 0.0f);
 }
 
+// items[k] = old items[source[k]] for every k, following the permutation's
+// cycles (source is left as the identity).
+template <typename T>
+void permuteInPlace(std::vector<T>& items, std::vector<uint32_t>& source) {
+    for (uint32_t start = 0; start < source.size(); ++start) {
+        if (source[start] == start) continue;
+        T carried = items[start];
+        uint32_t k = start;
+        while (source[k] != start) {
+            uint32_t next = source[k];
+            items[k] = items[next];
+            source[k] = k;
+            k = next;
+        }
+        items[k] = carried;
+        source[k] = k;
+    }
+}
+
 }  // namespace
 
 GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
@@ -49,8 +68,14 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     g.width = settings.width > 0 ? settings.width : scene.camera.width;
     g.height = settings.height > 0 ? settings.height : scene.camera.height;
 
+    // Sized up front: a 10M-triangle mesh grown by doubling would hold up to
+    // twice its 640 MB while the BVH is built.
     std::vector<gpu::Primitive> primitives;
     std::vector<Aabb> bounds;
+    size_t count = countSceneArrays(scene).primitives;
+    primitives.reserve(count);
+    bounds.reserve(count);
+    g.materials.reserve(scene.objects.size());
     for (const Object& object : scene.objects) {
         uint32_t material = uint32_t(g.materials.size());
         g.materials.push_back(packMaterial(object.material));
@@ -64,6 +89,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     for (uint32_t i = 0; i < primitives.size(); ++i)
         (settings.useBvh && bounds[i].finite() ? bounded : unbounded).push_back(i);
     std::vector<Aabb> boundedBounds;
+    boundedBounds.reserve(bounded.size());
     for (uint32_t i : bounded) {
         Aabb b = bounds[i];
         glm::vec3 pad = 1e-6f * (glm::abs(b.min) + glm::abs(b.max)) + 1e-30f;
@@ -71,11 +97,17 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
         b.max += pad;
         boundedBounds.push_back(b);
     }
+    std::vector<Aabb>().swap(bounds);
     Bvh bvh = buildBvh(boundedBounds);
+    std::vector<Aabb>().swap(boundedBounds);
     g.bvhNodes = std::move(bvh.nodes);
     g.bvhStats = bvh.stats;
-    for (uint32_t k : bvh.primitiveOrder) g.primitives.push_back(primitives[bounded[k]]);
-    for (uint32_t i : unbounded) g.primitives.push_back(primitives[i]);
+    // The primitives in place in their final order, without a second copy.
+    std::vector<uint32_t>& source = bvh.primitiveOrder;
+    for (uint32_t& k : source) k = bounded[k];
+    source.insert(source.end(), unbounded.begin(), unbounded.end());
+    g.primitives = std::move(primitives);
+    permuteInPlace(g.primitives, source);
     for (const PointLight& light : scene.lights)
         g.lights.push_back({.position = glm::vec4(glm::vec3(light.position), 1.0f),
                             .color = glm::vec4(glm::vec3(light.color), 1.0f)});

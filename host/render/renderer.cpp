@@ -189,10 +189,14 @@ void Renderer::uploadScene() {
     materials_ = {};
     lights_ = {};
     bvhNodes_ = {};
+    // The large arrays live on the device from now on: their host copies go
+    // as soon as they are uploaded (a 10M-triangle mesh: 1 GB less host memory).
     primitives_ = upload(scene_.primitives, "primitives");
     deviceBytes_ += primitives_.size;
+    std::vector<gpu::Primitive>().swap(scene_.primitives);
     bvhNodes_ = upload(scene_.bvhNodes, "BVH nodes");
     deviceBytes_ += bvhNodes_.size;
+    std::vector<gpu::BvhNode>().swap(scene_.bvhNodes);
     materials_ = upload(scene_.materials, "materials");
     deviceBytes_ += materials_.size;
     lights_ = upload(scene_.lights, "lights");

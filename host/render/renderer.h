@@ -85,7 +85,7 @@ private:
 
     VulkanContext& ctx_;
     RenderSettings settings_;
-    GpuScene scene_;
+    GpuScene scene_;  // primitives and bvhNodes emptied once uploaded
     ComputePipeline pipeline_;
     std::array<uint32_t, 3> specialization_{};  // what pipeline_ was specialised for
     uint32_t layerCount_;

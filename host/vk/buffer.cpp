@@ -1,5 +1,6 @@
 #include "vk/buffer.h"
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -40,7 +41,13 @@ Buffer createBuffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsa
                                                                              .allocationSize = req.size,
                                                                              .memoryTypeIndex = type});
         b.buffer.bindMemory(*b.memory, 0);
-        if (properties & vk::MemoryPropertyFlagBits::eHostVisible) b.mapped = b.memory.mapMemory(0, VK_WHOLE_SIZE);
+        if (properties & vk::MemoryPropertyFlagBits::eHostVisible) {
+            b.mapped = b.memory.mapMemory(0, VK_WHOLE_SIZE);
+            // lavapipe (Mesa 25.0) reports success and maps to MAP_FAILED
+            // when its mmap of the allocation fails (seen under ulimit -v).
+            if (!b.mapped || b.mapped == reinterpret_cast<void*>(intptr_t(-1)))
+                throw vk::OutOfHostMemoryError("vkMapMemory returned no mapping");
+        }
         if (addressed) b.address = ctx.device.getBufferAddress({.buffer = *b.buffer});
     } catch (const vk::OutOfDeviceMemoryError& e) {
         throw std::runtime_error("out of device memory for a buffer of " + std::to_string(b.size) + " bytes (" +
@@ -53,6 +60,21 @@ Buffer createBuffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsa
 }
 
 Buffer createDeviceBuffer(VulkanContext& ctx, const void* data, vk::DeviceSize size, vk::BufferUsageFlags usage) {
+    // A device that works in host memory (lavapipe, an integrated GPU) is
+    // written directly: a staging copy would hold the data twice (640 MB more
+    // for a 10M-triangle mesh).
+    auto shared = vk::MemoryPropertyFlagBits::eDeviceLocal | vk::MemoryPropertyFlagBits::eHostVisible |
+                  vk::MemoryPropertyFlagBits::eHostCoherent;
+    vk::PhysicalDeviceType type = ctx.physicalDevice.getProperties().deviceType;
+    auto memoryTypes = ctx.physicalDevice.getMemoryProperties().memoryTypes;
+    bool unified = (type == vk::PhysicalDeviceType::eCpu || type == vk::PhysicalDeviceType::eIntegratedGpu) &&
+                   std::any_of(memoryTypes.begin(), memoryTypes.end(),
+                               [&](const vk::MemoryType& t) { return (t.propertyFlags & shared) == shared; });
+    if (data && size > 0 && unified) {
+        Buffer direct = createBuffer(ctx, size, usage, shared);
+        std::memcpy(direct.mapped, data, size);
+        return direct;
+    }
     Buffer device = createBuffer(ctx, size, usage | vk::BufferUsageFlagBits::eTransferDst,
                                  vk::MemoryPropertyFlagBits::eDeviceLocal);
     if (data && size > 0) {
