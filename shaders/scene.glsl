@@ -13,10 +13,12 @@ layout(push_constant) uniform TileBlock { TileParams tileParams; };
 // The scene's arrays are read through buffer device addresses (Vulkan 1.2
 // bufferDeviceAddress), not descriptors: a storage buffer descriptor spans
 // at most maxStorageBufferRange (128 MiB on lavapipe, 2^21 primitives), an
-// address a whole VkBuffer. Indexing an array through a reference is done
-// in 64 bits by the driver, so no byte offset overflows. Members are still
-// read one by one (primitives[i].a), so a load fetches only the words it
-// names, as with the storage buffers before (intersect.glsl).
+// address a whole VkBuffer. The driver turns an index into a byte address
+// in 64 bits, so no offset overflows past 4 GiB. The macros keep the names
+// of the former storage buffers, and members are still read one by one
+// (primitives[i].a): a load fetches only the words it names
+// (intersect.glsl). On lavapipe these loads are also faster than storage
+// buffer loads, which it bounds-checks lane by lane (README, "Profiling").
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PrimitiveArray { Primitive v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MaterialArray { Material v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer LightArray { Light v[]; };

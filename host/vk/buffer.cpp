@@ -1,6 +1,7 @@
 #include "vk/buffer.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
 #include <string>
