@@ -20,14 +20,12 @@ using uint = std::uint32_t;
 
 WHITTED_CONST uint kWorkgroupSize = 8;  // 8x8 invocations, one pixel each
 
-// Descriptor bindings of the single descriptor set.
-WHITTED_CONST uint kBindingParams = 0;      // uniform FrameParams
-WHITTED_CONST uint kBindingPrimitives = 1;  // Primitive[]
-WHITTED_CONST uint kBindingMaterials = 2;   // Material[]
-WHITTED_CONST uint kBindingLights = 3;      // Light[]
-WHITTED_CONST uint kBindingOutput = 4;      // vec4[kAovCount * width * height]
-WHITTED_CONST uint kBindingCounters = 5;    // RayCounters
-WHITTED_CONST uint kBindingBvhNodes = 6;    // BvhNode[]
+// Descriptor bindings of the single descriptor set. The scene's arrays
+// (Primitive[], BvhNode[], Material[], Light[]) have no binding: the shader
+// reads them through the device addresses in FrameParams (shaders/scene.glsl).
+WHITTED_CONST uint kBindingParams = 0;    // uniform FrameParams
+WHITTED_CONST uint kBindingOutput = 4;    // vec4[kAovCount * outputRect pixels]
+WHITTED_CONST uint kBindingCounters = 5;  // RayCounters
 // Adaptive anti-aliasing (host/render/adaptive.*): the pixels a refinement
 // pass traces, the first pass's per-pixel guide, per-entry sample statistics.
 WHITTED_CONST uint kBindingPixelList = 7;   // uint[]: x | y << 16
@@ -127,6 +125,8 @@ struct FrameParams {
     uvec4 sizes;        // width, height, primitive count, light count
     uvec4 options;      // samples per pixel, max depth, flags, seed
     uvec4 accel;        // BVH node count, first and count of the primitives outside it (planes), 0
+    uvec4 addresses0;   // device addresses (low, high words) of Primitive[] and BvhNode[]
+    uvec4 addresses1;   // of Material[] and Light[]
 };
 
 // TileParams.samples.w bit flags.

@@ -1,18 +1,34 @@
 // Scene buffers, as laid out in device_types.h.
 #ifndef WHITTED_SCENE_GLSL
 #define WHITTED_SCENE_GLSL
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
 #include "device_types.h"
 
 layout(std140, set = 0, binding = kBindingParams) uniform FrameParamsBlock { FrameParams params; };
-layout(std430, set = 0, binding = kBindingPrimitives) readonly buffer PrimitiveBlock { Primitive primitives[]; };
-layout(std430, set = 0, binding = kBindingMaterials) readonly buffer MaterialBlock { Material materials[]; };
-layout(std430, set = 0, binding = kBindingLights) readonly buffer LightBlock { Light lights[]; };
 layout(std430, set = 0, binding = kBindingOutput) buffer OutputBlock { vec4 outputLayers[]; };
 layout(std430, set = 0, binding = kBindingCounters) buffer CounterBlock { RayCounters counters; };
-layout(std430, set = 0, binding = kBindingBvhNodes) readonly buffer BvhBlock { BvhNode bvhNodes[]; };
 layout(std430, set = 0, binding = kBindingPixelList) readonly buffer PixelListBlock { uint pixelList[]; };
 layout(std430, set = 0, binding = kBindingGuide) writeonly buffer GuideBlock { uvec4 guide[]; };
 layout(std430, set = 0, binding = kBindingSampleStats) buffer StatsBlock { uvec4 sampleStats[]; };
 layout(push_constant) uniform TileBlock { TileParams tileParams; };
+
+// The scene's arrays are read through buffer device addresses (Vulkan 1.2
+// bufferDeviceAddress), not descriptors: a storage buffer descriptor spans
+// at most maxStorageBufferRange (128 MiB on lavapipe, 2^21 primitives), an
+// address a whole VkBuffer. The driver turns an index into a byte address
+// in 64 bits, so no offset overflows past 4 GiB. The macros keep the names
+// of the former storage buffers, and members are still read one by one
+// (primitives[i].a): a load fetches only the words it names
+// (intersect.glsl). On lavapipe these loads are also faster than storage
+// buffer loads, which it bounds-checks lane by lane (README, "Profiling").
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PrimitiveArray { Primitive v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MaterialArray { Material v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer LightArray { Light v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhNodeArray { BvhNode v[]; };
+#define primitives (PrimitiveArray(params.addresses0.xy).v)
+#define bvhNodes (BvhNodeArray(params.addresses0.zw).v)
+#define materials (MaterialArray(params.addresses1.xy).v)
+#define lights (LightArray(params.addresses1.zw).v)
 
 #endif

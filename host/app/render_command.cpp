@@ -141,7 +141,7 @@ int runDevicesCommand() {
     for (const DeviceInfo& d : VulkanContext::listDevices())
         std::printf("%u: %s (%s, %s, Vulkan %u.%u)%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driver.c_str(),
                     VK_API_VERSION_MAJOR(d.apiVersion), VK_API_VERSION_MINOR(d.apiVersion),
-                    d.suitable ? "" : " [unsuitable: needs Vulkan 1.2 with compute]");
+                    d.suitable ? "" : (" [unsuitable: " + d.unsuitable + "]").c_str());
     return kExitOk;
 }
 

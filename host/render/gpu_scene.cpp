@@ -2,6 +2,7 @@
 
 #include "shapes/shapes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 
@@ -12,7 +13,8 @@ namespace whitted {
 static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, info) == 48);
 static_assert(sizeof(gpu::Material) == 64 && offsetof(gpu::Material, coefs1) == 48);
 static_assert(sizeof(gpu::Light) == 32);
-static_assert(sizeof(gpu::FrameParams) == 128 && offsetof(gpu::FrameParams, accel) == 112);
+static_assert(sizeof(gpu::FrameParams) == 160 && offsetof(gpu::FrameParams, accel) == 112 &&
+              offsetof(gpu::FrameParams, addresses1) == 144);
 static_assert(sizeof(gpu::BvhNode) == 32);
 static_assert(sizeof(gpu::TileParams) == 64 && offsetof(gpu::TileParams, guideRect) == 48);
 static_assert(sizeof(gpu::RayCounters) == 16);
@@ -40,6 +42,25 @@ void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p
     p.up = glm::vec4(glm::vec3(up * tanHalf), 0.0f);
 }
 
+// items[k] = old items[source[k]] for every k, following the permutation's
+// cycles (source is left as the identity).
+template <typename T>
+void permuteInPlace(std::vector<T>& items, std::vector<uint32_t>& source) {
+    for (uint32_t start = 0; start < source.size(); ++start) {
+        if (source[start] == start) continue;
+        T carried = items[start];
+        uint32_t k = start;
+        while (source[k] != start) {
+            uint32_t next = source[k];
+            items[k] = items[next];
+            source[k] = k;
+            k = next;
+        }
+        items[k] = carried;
+        source[k] = k;
+    }
+}
+
 }  // namespace
 
 GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
@@ -47,8 +68,14 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     g.width = settings.width > 0 ? settings.width : scene.camera.width;
     g.height = settings.height > 0 ? settings.height : scene.camera.height;
 
+    // Sized up front: a 10M-triangle mesh grown by doubling would hold up to
+    // twice its 640 MB while the BVH is built.
     std::vector<gpu::Primitive> primitives;
     std::vector<Aabb> bounds;
+    size_t count = countSceneArrays(scene).primitives;
+    primitives.reserve(count);
+    bounds.reserve(count);
+    g.materials.reserve(scene.objects.size());
     for (const Object& object : scene.objects) {
         uint32_t material = uint32_t(g.materials.size());
         g.materials.push_back(packMaterial(object.material));
@@ -62,6 +89,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     for (uint32_t i = 0; i < primitives.size(); ++i)
         (settings.useBvh && bounds[i].finite() ? bounded : unbounded).push_back(i);
     std::vector<Aabb> boundedBounds;
+    boundedBounds.reserve(bounded.size());
     for (uint32_t i : bounded) {
         Aabb b = bounds[i];
         glm::vec3 pad = 1e-6f * (glm::abs(b.min) + glm::abs(b.max)) + 1e-30f;
@@ -69,11 +97,17 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
         b.max += pad;
         boundedBounds.push_back(b);
     }
+    std::vector<Aabb>().swap(bounds);
     Bvh bvh = buildBvh(boundedBounds);
+    std::vector<Aabb>().swap(boundedBounds);
     g.bvhNodes = std::move(bvh.nodes);
     g.bvhStats = bvh.stats;
-    for (uint32_t k : bvh.primitiveOrder) g.primitives.push_back(primitives[bounded[k]]);
-    for (uint32_t i : unbounded) g.primitives.push_back(primitives[i]);
+    // The primitives in place in their final order, without a second copy.
+    std::vector<uint32_t>& source = bvh.primitiveOrder;
+    for (uint32_t& k : source) k = bounded[k];
+    source.insert(source.end(), unbounded.begin(), unbounded.end());
+    g.primitives = std::move(primitives);
+    permuteInPlace(g.primitives, source);
     for (const PointLight& light : scene.lights)
         g.lights.push_back({.position = glm::vec4(glm::vec3(light.position), 1.0f),
                             .color = glm::vec4(glm::vec3(light.color), 1.0f)});
@@ -85,6 +119,46 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
                                   settings.auxiliary ? gpu::kOptionWriteAovs : 0u, settings.seed);
     g.params.accel = glm::uvec4(g.bvhNodes.size(), bounded.size(), unbounded.size(), 0);
     return g;
+}
+
+SceneArrayCounts countSceneArrays(const Scene& scene) {
+    SceneArrayCounts counts;
+    for (const Object& object : scene.objects) counts.primitives += primitiveCount(object.shape);
+    counts.bvhNodes = std::max<uint64_t>(2 * counts.primitives, 1) - 1;
+    counts.materials = scene.objects.size();
+    counts.lights = scene.lights.size();
+    return counts;
+}
+
+std::optional<std::string> sceneArraysTooLarge(const SceneArrayCounts& counts, const BufferLimits& limits) {
+    // The shader indexes the arrays with 32-bit signed-safe indices (the BVH
+    // tags leaf entries with bit 31): at most 2^31 - 1 elements each.
+    constexpr uint64_t kMaxIndexCount = (uint64_t(1) << 31) - 1;
+    struct Array {
+        uint64_t count;
+        uint64_t elementSize;
+        const char* what;
+    };
+    const Array arrays[] = {{counts.primitives, sizeof(gpu::Primitive), "primitives (triangles count one each)"},
+                            {counts.bvhNodes, sizeof(gpu::BvhNode), "BVH nodes (at most)"},
+                            {counts.materials, sizeof(gpu::Material), "materials (one per object)"},
+                            {counts.lights, sizeof(gpu::Light), "lights"}};
+    auto mib = [](uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; };
+    for (const Array& a : arrays) {
+        uint64_t bytes = a.count * a.elementSize;
+        uint64_t limit = std::min(limits.maxBufferSize, limits.maxAllocationSize);
+        const char* name =
+            limits.maxAllocationSize <= limits.maxBufferSize ? "maxMemoryAllocationSize" : "maxBufferSize";
+        if (bytes > limit)
+            return "the scene's " + std::to_string(a.count) + " " + a.what + " need " + std::to_string(bytes) +
+                   " bytes (" + mib(bytes) + ") in one buffer, more than this device's " + name + " of " +
+                   std::to_string(limit) + " bytes (" + mib(limit) + ", " + std::to_string(limit / a.elementSize) +
+                   " of them)";
+        if (a.count > kMaxIndexCount)
+            return "the scene's " + std::to_string(a.count) + " " + a.what +
+                   " are more than the shader's 32-bit indices address (" + std::to_string(kMaxIndexCount) + ")";
+    }
+    return std::nullopt;
 }
 
 }  // namespace whitted

@@ -6,6 +6,9 @@
 #include "render/render_settings.h"
 #include "scene/scene.h"
 
+#include <cstdint>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace whitted {
@@ -22,5 +25,27 @@ struct GpuScene {
 };
 
 GpuScene packScene(const Scene& scene, const RenderSettings& settings);
+
+// Element counts of the scene's device arrays, known before packing: the
+// BVH's node count is its bound 2n - 1 for n bounded primitives.
+struct SceneArrayCounts {
+    uint64_t primitives = 0;
+    uint64_t bvhNodes = 0;
+    uint64_t materials = 0;
+    uint64_t lights = 0;
+};
+SceneArrayCounts countSceneArrays(const Scene& scene);
+
+// What one scene array may take on the device: the shader reads each array
+// through its buffer's device address, so it must fit one VkBuffer
+// (maxBufferSize) in one allocation (maxMemoryAllocationSize).
+struct BufferLimits {
+    uint64_t maxBufferSize = UINT64_MAX;  // unknown without Vulkan 1.3 or VK_KHR_maintenance4
+    uint64_t maxAllocationSize = 0;
+};
+
+// Why the scene's arrays do not fit the limits (the first array too large,
+// its count, bytes and the limit), or nothing when they do.
+std::optional<std::string> sceneArraysTooLarge(const SceneArrayCounts& counts, const BufferLimits& limits);
 
 }  // namespace whitted

@@ -6,6 +6,7 @@
 
 #include "whitted_comp.h"  // kWhittedCompSpv, generated from shaders/whitted.comp
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace whitted {
 namespace {
@@ -56,23 +58,21 @@ std::vector<uint32_t> profilingShaderVariant() {
 
 constexpr vk::BufferUsageFlags kStorage = vk::BufferUsageFlagBits::eStorageBuffer;
 
-// The primitive buffer (64 bytes a primitive; a smooth triangle's vertex
-// normals ride inside its primitive) must fit the device's storage buffer
-// range. Checked before packing, so a scene too large is refused before the
-// BVH over it is built.
-const Scene& checkPrimitivesFit(const VulkanContext& ctx, const Scene& scene) {
-    size_t count = 0;
-    for (const Object& object : scene.objects) count += primitiveCount(object.shape);
-    vk::DeviceSize size = vk::DeviceSize(count) * sizeof(gpu::Primitive);
-    vk::DeviceSize maxRange = ctx.physicalDevice.getProperties().limits.maxStorageBufferRange;
-    if (size > maxRange)
-        throw std::runtime_error("the scene's " + std::to_string(count) + " primitives (triangles count one each) need " +
-                                 std::to_string(size >> 20) + " MiB, more than this device's storage buffer limit of " +
-                                 std::to_string(maxRange >> 20) + " MiB (" + std::to_string(maxRange / sizeof(gpu::Primitive)) +
-                                 " primitives)");
-    return scene;
+// Packs the scene after checking that each of its arrays fits one device
+// buffer: a scene too large is refused before its BVH is built. Running out
+// of host memory while packing or building the BVH says so with the sizes.
+GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const RenderSettings& settings) {
+    SceneArrayCounts counts = countSceneArrays(scene);
+    if (auto problem = sceneArraysTooLarge(counts, sceneBufferLimits(ctx))) throw std::runtime_error(*problem);
+    try {
+        return packScene(scene, settings);
+    } catch (const std::bad_alloc&) {
+        uint64_t bytes = counts.primitives * sizeof(gpu::Primitive) + counts.bvhNodes * sizeof(gpu::BvhNode);
+        throw std::runtime_error("out of host memory packing the scene's " + std::to_string(counts.primitives) +
+                                 " primitives and building their BVH (the packed arrays alone take up to " +
+                                 std::to_string(bytes >> 20) + " MiB)");
+    }
 }
-
 
 // Specialization constants for a packed scene: the shapes in the BVH, any
 // transparency, the shapes outside it (planes). What a scene lacks compiles
@@ -85,12 +85,18 @@ std::array<uint32_t, 3> specializationFor(const GpuScene& scene) {
     return constants;
 }
 
-constexpr vk::DescriptorType kBindingTypes[] = {
-    vk::DescriptorType::eUniformBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
-    vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
-    vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer,
-    vk::DescriptorType::eStorageBuffer};
-constexpr uint32_t kStorageBindings = 9;
+// The descriptor set: the scene's arrays are not in it (device addresses,
+// shaders/scene.glsl).
+constexpr DescriptorBinding kBindings[] = {{gpu::kBindingParams, vk::DescriptorType::eUniformBuffer},
+                                           {gpu::kBindingOutput, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingCounters, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingPixelList, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingGuide, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer}};
+constexpr uint32_t kStorageBindings = 5;
+
+// The device address of a buffer as the (low, high) words FrameParams holds.
+glm::uvec2 addressWords(const Buffer& b) { return {uint32_t(b.address), uint32_t(b.address >> 32)}; }
 
 constexpr vk::MemoryPropertyFlags kHostVisible =
     vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent;
@@ -109,8 +115,28 @@ PixelRegion regionFor(const RenderSettings& settings, int width, int height) {
 
 }  // namespace
 
+BufferLimits sceneBufferLimits(const VulkanContext& ctx) {
+    BufferLimits limits;
+    const vk::raii::PhysicalDevice& physical = ctx.physicalDevice;
+    auto extensions = physical.enumerateDeviceExtensionProperties();
+    bool maintenance4 = physical.getProperties().apiVersion >= VK_API_VERSION_1_3 ||
+                        std::any_of(extensions.begin(), extensions.end(), [](const vk::ExtensionProperties& e) {
+                            return std::string_view(e.extensionName.data()) == VK_KHR_MAINTENANCE_4_EXTENSION_NAME;
+                        });
+    if (maintenance4) {
+        auto props = physical.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceMaintenance3Properties,
+                                             vk::PhysicalDeviceMaintenance4Properties>();
+        limits.maxAllocationSize = props.get<vk::PhysicalDeviceMaintenance3Properties>().maxMemoryAllocationSize;
+        limits.maxBufferSize = props.get<vk::PhysicalDeviceMaintenance4Properties>().maxBufferSize;
+    } else {
+        auto props = physical.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceMaintenance3Properties>();
+        limits.maxAllocationSize = props.get<vk::PhysicalDeviceMaintenance3Properties>().maxMemoryAllocationSize;
+    }
+    return limits;
+}
+
 Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings& settings)
-    : ctx_(ctx), settings_(settings), scene_(packScene(checkPrimitivesFit(ctx, scene), settings)) {
+    : ctx_(ctx), settings_(settings), scene_(packSceneThatFits(ctx, scene, settings)) {
     if (scene_.width < 1 || scene_.height < 1 || scene_.width > 16384 || scene_.height > 16384)
         throw std::runtime_error("image size " + std::to_string(scene_.width) + "x" + std::to_string(scene_.height) +
                                  " is outside 1..16384");
@@ -178,40 +204,68 @@ void Renderer::buildPipeline() {
     std::vector<uint32_t> variant = profilingShaderVariant();
     descriptorSet_ = nullptr;  // freed before the layout it was allocated with goes
     pipeline_ = createComputePipeline(ctx_, variant.empty() ? std::span<const uint32_t>(kWhittedCompSpv) : variant,
-                                      kBindingTypes, sizeof(gpu::TileParams), &specialization);
+                                      kBindings, sizeof(gpu::TileParams), &specialization);
     vk::DescriptorSetLayout setLayout = *pipeline_.setLayout;
     descriptorSet_ = std::move(vk::raii::DescriptorSets(
         ctx_.device, {.descriptorPool = *descriptorPool_, .descriptorSetCount = 1, .pSetLayouts = &setLayout}).front());
     pipelineSeconds_ = secondsSince(start);
 }
 
-// Scene buffers, and the descriptor set naming them all.
+// Scene buffers, their addresses in the uniform block, and the descriptor
+// set naming the uniform block and the outputs.
 void Renderer::uploadScene() {
     auto start = Clock::now();
+    auto upload = [&](const auto& array, const char* what) {
+        vk::DeviceSize bytes = array.size() * sizeof(array[0]);
+        try {
+            return createDeviceBuffer(ctx_, array.data(), bytes, vk::BufferUsageFlagBits::eShaderDeviceAddress);
+        } catch (const std::runtime_error& e) {
+            throw std::runtime_error("uploading the scene's " + std::to_string(array.size()) + " " + what + " (" +
+                                     std::to_string(bytes) + " bytes; " + std::to_string(deviceBytes_ >> 20) +
+                                     " MiB already on the device): " + e.what());
+        }
+    };
+    deviceBytes_ = params_.size + output_.size + counters_.size + pixelList_.size + guide_.size + sampleStats_.size +
+                   readback_.size;
+    primitives_ = {};  // a re-upload (setScene) frees the old arrays first
+    materials_ = {};
+    lights_ = {};
+    bvhNodes_ = {};
+    // The large arrays live on the device from now on: their host copies go
+    // as soon as they are uploaded (a 10M-triangle mesh: 1 GB less host memory).
+    primitives_ = upload(scene_.primitives, "primitives");
+    deviceBytes_ += primitives_.size;
+    std::vector<gpu::Primitive>().swap(scene_.primitives);
+    bvhNodes_ = upload(scene_.bvhNodes, "BVH nodes");
+    deviceBytes_ += bvhNodes_.size;
+    std::vector<gpu::BvhNode>().swap(scene_.bvhNodes);
+    materials_ = upload(scene_.materials, "materials");
+    deviceBytes_ += materials_.size;
+    lights_ = upload(scene_.lights, "lights");
+    deviceBytes_ += lights_.size;
+    glm::uvec2 p = addressWords(primitives_), n = addressWords(bvhNodes_);
+    glm::uvec2 m = addressWords(materials_), l = addressWords(lights_);
+    scene_.params.addresses0 = glm::uvec4(p, n);
+    scene_.params.addresses1 = glm::uvec4(m, l);
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
-    primitives_ = createDeviceBuffer(ctx_, scene_.primitives.data(), scene_.primitives.size() * sizeof(gpu::Primitive), kStorage);
-    materials_ = createDeviceBuffer(ctx_, scene_.materials.data(), scene_.materials.size() * sizeof(gpu::Material), kStorage);
-    lights_ = createDeviceBuffer(ctx_, scene_.lights.data(), scene_.lights.size() * sizeof(gpu::Light), kStorage);
-    bvhNodes_ = createDeviceBuffer(ctx_, scene_.bvhNodes.data(), scene_.bvhNodes.size() * sizeof(gpu::BvhNode), kStorage);
-    const Buffer* buffers[] = {&params_,  &primitives_, &materials_, &lights_,      &output_,
-                               &counters_, &bvhNodes_,  &pixelList_, &guide_, &sampleStats_};
+
+    // In the order of kBindings.
+    const Buffer* buffers[] = {&params_, &output_, &counters_, &pixelList_, &guide_, &sampleStats_};
     std::vector<vk::DescriptorBufferInfo> infos;
     for (const Buffer* b : buffers) infos.push_back({*b->buffer, 0, VK_WHOLE_SIZE});
     std::vector<vk::WriteDescriptorSet> writes;
     for (uint32_t i = 0; i < infos.size(); ++i)
-        writes.push_back({.dstSet = *descriptorSet_, .dstBinding = i, .descriptorCount = 1,
-                          .descriptorType = kBindingTypes[i], .pBufferInfo = &infos[i]});
+        writes.push_back({.dstSet = *descriptorSet_, .dstBinding = kBindings[i].binding, .descriptorCount = 1,
+                          .descriptorType = kBindings[i].type, .pBufferInfo = &infos[i]});
     ctx_.device.updateDescriptorSets(writes, nullptr);
     uploadSeconds_ = secondsSince(start);
-    deviceBytes_ = readback_.size;
-    for (const Buffer* b : buffers) deviceBytes_ += b->size;
 }
 
 void Renderer::setScene(const Scene& scene) {
     RenderSettings settings = settings_;
     settings.width = scene_.width;  // the image size stays
     settings.height = scene_.height;
-    scene_ = packScene(checkPrimitivesFit(ctx_, scene), settings);
+    scene_ = packSceneThatFits(ctx_, scene, settings);
     // A shape or glass the old scene lacked needs the pipeline that has it.
     if (specializationFor(scene_) != specialization_) buildPipeline();
     uploadScene();

@@ -48,6 +48,11 @@ struct RenderResult {
     uint64_t lostSamples = 0;
 };
 
+// What one scene array may take on the device: its maxBufferSize (Vulkan 1.3
+// or VK_KHR_maintenance4) and maxMemoryAllocationSize. The Renderer refuses
+// a scene whose arrays exceed them (sceneArraysTooLarge) before packing it.
+BufferLimits sceneBufferLimits(const VulkanContext& ctx);
+
 // Fraction of the work done so far, in [0, 1].
 using ProgressCallback = std::function<void(double)>;
 
@@ -95,7 +100,7 @@ private:
 
     VulkanContext& ctx_;
     RenderSettings settings_;
-    GpuScene scene_;
+    GpuScene scene_;  // primitives and bvhNodes emptied once uploaded
     ComputePipeline pipeline_;
     std::array<uint32_t, 3> specialization_{};  // what pipeline_ was specialised for
     uint32_t layerCount_;

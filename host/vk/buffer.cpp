@@ -1,7 +1,10 @@
 #include "vk/buffer.h"
 
+#include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 namespace whitted {
 
@@ -26,19 +29,53 @@ Buffer createBuffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsa
                     vk::MemoryPropertyFlags properties) {
     Buffer b;
     b.size = std::max<vk::DeviceSize>(size, 16);  // zero-sized buffers are invalid
-    b.buffer = vk::raii::Buffer(ctx.device, vk::BufferCreateInfo{.size = b.size, .usage = usage,
-                                                                  .sharingMode = vk::SharingMode::eExclusive});
-    auto req = b.buffer.getMemoryRequirements();
-    vk::MemoryPropertyFlags preferred = properties;
-    if (properties & vk::MemoryPropertyFlagBits::eHostVisible) preferred |= vk::MemoryPropertyFlagBits::eHostCached;
-    uint32_t type = findMemoryType(ctx.physicalDevice, req.memoryTypeBits, properties, preferred);
-    b.memory = vk::raii::DeviceMemory(ctx.device, vk::MemoryAllocateInfo{.allocationSize = req.size, .memoryTypeIndex = type});
-    b.buffer.bindMemory(*b.memory, 0);
-    if (properties & vk::MemoryPropertyFlagBits::eHostVisible) b.mapped = b.memory.mapMemory(0, VK_WHOLE_SIZE);
+    try {
+        b.buffer = vk::raii::Buffer(ctx.device, vk::BufferCreateInfo{.size = b.size, .usage = usage,
+                                                                      .sharingMode = vk::SharingMode::eExclusive});
+        auto req = b.buffer.getMemoryRequirements();
+        vk::MemoryPropertyFlags preferred = properties;
+        if (properties & vk::MemoryPropertyFlagBits::eHostVisible) preferred |= vk::MemoryPropertyFlagBits::eHostCached;
+        uint32_t type = findMemoryType(ctx.physicalDevice, req.memoryTypeBits, properties, preferred);
+        bool addressed = bool(usage & vk::BufferUsageFlagBits::eShaderDeviceAddress);
+        vk::MemoryAllocateFlagsInfo flags{.flags = vk::MemoryAllocateFlagBits::eDeviceAddress};
+        b.memory = vk::raii::DeviceMemory(ctx.device, vk::MemoryAllocateInfo{.pNext = addressed ? &flags : nullptr,
+                                                                             .allocationSize = req.size,
+                                                                             .memoryTypeIndex = type});
+        b.buffer.bindMemory(*b.memory, 0);
+        if (properties & vk::MemoryPropertyFlagBits::eHostVisible) {
+            b.mapped = b.memory.mapMemory(0, VK_WHOLE_SIZE);
+            // lavapipe (Mesa 25.0) reports success and maps to MAP_FAILED
+            // when its mmap of the allocation fails (seen under ulimit -v).
+            if (!b.mapped || b.mapped == reinterpret_cast<void*>(intptr_t(-1)))
+                throw vk::OutOfHostMemoryError("vkMapMemory returned no mapping");
+        }
+        if (addressed) b.address = ctx.device.getBufferAddress({.buffer = *b.buffer});
+    } catch (const vk::OutOfDeviceMemoryError& e) {
+        throw std::runtime_error("out of device memory for a buffer of " + std::to_string(b.size) + " bytes (" +
+                                 std::to_string(b.size >> 20) + " MiB): " + e.what());
+    } catch (const vk::OutOfHostMemoryError& e) {
+        throw std::runtime_error("out of host memory for a buffer of " + std::to_string(b.size) + " bytes (" +
+                                 std::to_string(b.size >> 20) + " MiB): " + e.what());
+    }
     return b;
 }
 
 Buffer createDeviceBuffer(VulkanContext& ctx, const void* data, vk::DeviceSize size, vk::BufferUsageFlags usage) {
+    // A device that works in host memory (lavapipe, an integrated GPU) is
+    // written directly: a staging copy would hold the data twice (640 MB more
+    // for a 10M-triangle mesh).
+    auto shared = vk::MemoryPropertyFlagBits::eDeviceLocal | vk::MemoryPropertyFlagBits::eHostVisible |
+                  vk::MemoryPropertyFlagBits::eHostCoherent;
+    vk::PhysicalDeviceType type = ctx.physicalDevice.getProperties().deviceType;
+    auto memoryTypes = ctx.physicalDevice.getMemoryProperties().memoryTypes;
+    bool unified = (type == vk::PhysicalDeviceType::eCpu || type == vk::PhysicalDeviceType::eIntegratedGpu) &&
+                   std::any_of(memoryTypes.begin(), memoryTypes.end(),
+                               [&](const vk::MemoryType& t) { return (t.propertyFlags & shared) == shared; });
+    if (data && size > 0 && unified) {
+        Buffer direct = createBuffer(ctx, size, usage, shared);
+        std::memcpy(direct.mapped, data, size);
+        return direct;
+    }
     Buffer device = createBuffer(ctx, size, usage | vk::BufferUsageFlagBits::eTransferDst,
                                  vk::MemoryPropertyFlagBits::eDeviceLocal);
     if (data && size > 0) {

@@ -11,6 +11,7 @@ struct Buffer {
     vk::raii::DeviceMemory memory{nullptr};
     vk::DeviceSize size = 0;
     void* mapped = nullptr;  // non-null for host-visible buffers
+    vk::DeviceAddress address = 0;  // for shaders, when made with eShaderDeviceAddress usage
 };
 
 // First memory type allowed by `typeBits` that has all of `required`,
@@ -18,7 +19,10 @@ struct Buffer {
 uint32_t findMemoryType(const vk::raii::PhysicalDevice& physical, uint32_t typeBits,
                         vk::MemoryPropertyFlags required, vk::MemoryPropertyFlags preferred);
 
-// A buffer in memory with `properties`; host-visible memory is mapped.
+// A buffer in memory with `properties`; host-visible memory is mapped. With
+// eShaderDeviceAddress usage its memory is allocated for device addresses
+// and `address` is set. Running out of device or host memory throws a
+// runtime_error that names the size asked for.
 Buffer createBuffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage,
                     vk::MemoryPropertyFlags properties);
 

@@ -7,10 +7,18 @@ namespace whitted {
 ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv,
                                       std::span<const vk::DescriptorType> bindings, uint32_t pushConstantSize,
                                       const vk::SpecializationInfo* specialization) {
+    std::vector<DescriptorBinding> numbered;
+    for (uint32_t i = 0; i < bindings.size(); ++i) numbered.push_back({i, bindings[i]});
+    return createComputePipeline(ctx, spirv, numbered, pushConstantSize, specialization);
+}
+
+ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv,
+                                      std::span<const DescriptorBinding> bindings, uint32_t pushConstantSize,
+                                      const vk::SpecializationInfo* specialization) {
     ComputePipeline p;
     std::vector<vk::DescriptorSetLayoutBinding> layoutBindings;
-    for (uint32_t i = 0; i < bindings.size(); ++i)
-        layoutBindings.push_back({.binding = i, .descriptorType = bindings[i], .descriptorCount = 1,
+    for (const DescriptorBinding& b : bindings)
+        layoutBindings.push_back({.binding = b.binding, .descriptorType = b.type, .descriptorCount = 1,
                                   .stageFlags = vk::ShaderStageFlagBits::eCompute});
     p.setLayout = vk::raii::DescriptorSetLayout(
         ctx.device, vk::DescriptorSetLayoutCreateInfo{.bindingCount = uint32_t(layoutBindings.size()),

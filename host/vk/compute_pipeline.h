@@ -13,8 +13,18 @@ struct ComputePipeline {
     vk::raii::Pipeline pipeline{nullptr};
 };
 
-// `bindings` lists the descriptor type of each binding number 0..n-1;
+struct DescriptorBinding {
+    uint32_t binding;
+    vk::DescriptorType type;
+};
+
+// `bindings` lists the set's bindings (numbers need not be contiguous);
 // `specialization` (optional) sets the shader's specialization constants.
+ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv,
+                                      std::span<const DescriptorBinding> bindings, uint32_t pushConstantSize,
+                                      const vk::SpecializationInfo* specialization = nullptr);
+
+// The same with the descriptor type of each binding number 0..n-1.
 ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv,
                                       std::span<const vk::DescriptorType> bindings, uint32_t pushConstantSize,
                                       const vk::SpecializationInfo* specialization = nullptr);

@@ -48,7 +48,17 @@ DeviceInfo describe(const vk::raii::PhysicalDevice& device, uint32_t index) {
     info.type = deviceTypeName(p.deviceType);
     info.driver = std::string(d.driverName.data()) + " " + d.driverInfo.data();
     info.apiVersion = p.apiVersion;
-    info.suitable = p.apiVersion >= VK_API_VERSION_1_2 && findComputeQueueFamily(device).has_value();
+    // The shader reads the scene through buffer device addresses (core in
+    // Vulkan 1.2, optional there but on every Vulkan 1.2 desktop driver and lavapipe).
+    if (p.apiVersion < VK_API_VERSION_1_2)
+        info.unsuitable = "needs Vulkan 1.2";
+    else if (!findComputeQueueFamily(device))
+        info.unsuitable = "has no compute queue";
+    else if (!device.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceVulkan12Features>()
+                  .get<vk::PhysicalDeviceVulkan12Features>()
+                  .bufferDeviceAddress)
+        info.unsuitable = "lacks bufferDeviceAddress (Vulkan 1.2 feature)";
+    info.suitable = info.unsuitable.empty();
     return info;
 }
 
@@ -130,8 +140,7 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
             bool match = isIndex ? std::to_string(i) == options.deviceName
                                  : lower(d.name).find(lower(options.deviceName)) != std::string::npos;
             if (match) {
-                if (!d.suitable)
-                    throw std::runtime_error("device '" + d.name + "' does not support Vulkan 1.2 compute");
+                if (!d.suitable) throw std::runtime_error("device '" + d.name + "' is unsuitable: it " + d.unsuitable);
                 chosen = i;
             }
         }
@@ -150,7 +159,8 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         }
         if (!chosen)
             throw std::runtime_error(
-                "no Vulkan 1.2 device with a compute queue was found (install mesa-vulkan-drivers for lavapipe)");
+                "no Vulkan 1.2 device with a compute queue and bufferDeviceAddress was found (install "
+                "mesa-vulkan-drivers for lavapipe)");
     }
     physicalDevice = std::move(devices[*chosen]);
     info_ = describe(physicalDevice, *chosen);
@@ -173,7 +183,10 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     }
     float priority = 1.0f;
     vk::DeviceQueueCreateInfo queueInfo{.queueFamilyIndex = queueFamily, .queueCount = 1, .pQueuePriorities = &priority};
-    device = vk::raii::Device(physicalDevice, vk::DeviceCreateInfo{.queueCreateInfoCount = 1, .pQueueCreateInfos = &queueInfo,
+    vk::PhysicalDeviceVulkan12Features features12{.bufferDeviceAddress = VK_TRUE};  // scene arrays (shaders/scene.glsl)
+    device = vk::raii::Device(physicalDevice, vk::DeviceCreateInfo{.pNext = &features12,
+                                                                   .queueCreateInfoCount = 1,
+                                                                   .pQueueCreateInfos = &queueInfo,
                                                                    .enabledExtensionCount = uint32_t(deviceExtensions.size()),
                                                                    .ppEnabledExtensionNames = deviceExtensions.data()});
     queue = vk::raii::Queue(device, queueFamily, 0);

@@ -22,7 +22,8 @@ struct DeviceInfo {
     std::string type;  // "discrete", "integrated", "virtual", "cpu", "other"
     std::string driver;
     uint32_t apiVersion = 0;
-    bool suitable = false;  // Vulkan 1.2 and a compute queue
+    bool suitable = false;  // Vulkan 1.2, a compute queue and buffer device addresses
+    std::string unsuitable;  // why not, when not suitable
 };
 
 struct ContextOptions {
