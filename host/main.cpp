@@ -55,7 +55,9 @@ int main(int argc, char** argv) {
                           "transmission_coef,ior,depth,normal")->capture_default_str();
     renderCmd->add_option("--tonemap", tonemap, "clamp (sRGB) or seed (min-max normalisation, gamma 0.667)")
         ->check(CLI::IsMember({"clamp", "seed"}))->capture_default_str();
-    renderCmd->add_option("--device", render.device, "Vulkan device index or name substring [best available]");
+    renderCmd->add_option("--device", render.device,
+                          "Vulkan device index or name substring [best available]; all, or a list such as 0,1, "
+                          "shares the bands of one render among several devices");
     bool noBvh = false;
     renderCmd->add_flag("--no-bvh", noBvh, "test every primitive for every ray (reference for comparisons)");
     renderCmd->add_flag("--validate", render.validation, "enable the Khronos validation layer; fail on any message");

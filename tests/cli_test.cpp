@@ -239,6 +239,30 @@ TEST(Cli, BadRegionIsRefused) {
     EXPECT_FALSE(fs::exists(dir / "out.png"));
 }
 
+// --device with the same device named twice shares the bands of one render
+// between two contexts: the files are those of one device, bit for bit.
+TEST(Cli, TwoDevicesShareTheBandsOfOneRender) {
+    fs::path dir = scratchDir("two_devices");
+    std::string opts = " --width 256 --height 4096 --spp 4 --aov all --validate";
+    CommandRun one = runWhitted("render " + scene("room.xml") + " -o one.exr" + opts + " --device 0", dir);
+    ASSERT_EQ(one.status, 0) << one.output;
+    CommandRun two = runWhitted("render " + scene("room.xml") + " -o two.exr" + opts + " --device 0,0", dir);
+    ASSERT_EQ(two.status, 0) << two.output;
+    std::string record = readText(dir / "two.json");
+    EXPECT_NE(record.find("\"devices\": 2"), std::string::npos) << record;
+    EXPECT_EQ(record.find("\"bands\": 1,"), std::string::npos) << "more than one band to share: " << record;
+    for (std::string layer : {"", ".diffuse", ".normal", ".samples", ".depth"}) {
+        int w = 0, h = 0, c = 0;
+        std::vector<float> a, b;
+        readImageInto(dir / ("one" + layer + ".exr"), w, h, c, a);
+        readImageInto(dir / ("two" + layer + ".exr"), w, h, c, b);
+        ASSERT_EQ(a, b) << layer;
+    }
+    CommandRun all = runWhitted("render " + scene("three_diffuse_spheres.xml") + " -o all.png --width 64 --height 48 "
+                                "--device all", dir);
+    EXPECT_EQ(all.status, 0) << all.output;
+}
+
 TEST(Cli, DevicesListsLavapipeOrAGpu) {
     CommandRun r = runWhitted("devices");
     EXPECT_EQ(r.status, 0);

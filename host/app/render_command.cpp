@@ -3,6 +3,7 @@
 #include "app/progress_bar.h"
 #include "io/image_io.h"
 #include "io/render_record.h"
+#include "render/multi_device.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
 #include "vk/context.h"
@@ -11,7 +12,9 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <optional>
+#include <sstream>
 
 namespace whitted {
 namespace {
@@ -27,6 +30,23 @@ std::optional<std::string> checkOutput(const std::filesystem::path& path) {
 }
 
 std::string tonemapName(Tonemap t) { return t == Tonemap::Seed ? "seed" : "clamp"; }
+
+// The devices --device names: "all" (every suitable one), a comma-separated
+// list of indices or names, or one (empty: the best).
+std::vector<std::string> deviceNames(const std::string& option) {
+    std::vector<std::string> names;
+    if (option == "all") {
+        for (const DeviceInfo& d : VulkanContext::listDevices())
+            if (d.suitable) names.push_back(std::to_string(d.index));
+        if (names.empty()) names.push_back("");
+        return names;
+    }
+    std::stringstream in(option);
+    std::string item;
+    while (std::getline(in, item, ',')) names.push_back(item);
+    if (names.empty()) names.push_back("");
+    return names;
+}
 
 // Thrown out of the history folder's fill when the validation layer spoke:
 // the staging folder goes, nothing is written.
@@ -61,18 +81,35 @@ int runRenderCommand(const RenderCommandOptions& options) {
 
     RenderSettings settings = options.settings;
     settings.auxiliary = !aovs.empty();
-    VulkanContext ctx({.validation = options.validation, .deviceName = options.device});
-    if (!options.quiet)
-        std::cerr << "whitted: device " << ctx.deviceInfo().name << " (" << ctx.deviceInfo().type << ", "
-                  << ctx.deviceInfo().driver << ")\n";
+    // One context and renderer per device: --device all, or a list such as
+    // 0,1 (the same device may be named twice, which tests the sharing).
+    std::vector<std::unique_ptr<VulkanContext>> contexts;
+    for (const std::string& name : deviceNames(options.device)) {
+        contexts.push_back(std::make_unique<VulkanContext>(ContextOptions{.validation = options.validation, .deviceName = name}));
+        const DeviceInfo& d = contexts.back()->deviceInfo();
+        if (!options.quiet) std::cerr << "whitted: device " << d.name << " (" << d.type << ", " << d.driver << ")\n";
+    }
+    VulkanContext& ctx = *contexts.front();
+    auto validationMessages = [&] {
+        uint32_t n = 0;
+        for (const auto& c : contexts) n += c->validationMessageCount();
+        return n;
+    };
 
-    std::optional<Renderer> renderer;
+    std::vector<std::unique_ptr<Renderer>> renderers;
+    std::vector<Renderer*> shares;
     try {
-        renderer.emplace(ctx, scene, settings);
+        for (const auto& c : contexts) shares.push_back(renderers.emplace_back(std::make_unique<Renderer>(*c, scene, settings)).get());
     } catch (const std::invalid_argument& e) {  // a region outside the image
         std::cerr << "whitted: --region: " << e.what() << "\n";
         return kExitBadInput;
     }
+    Renderer* renderer = shares.front();
+    auto sharedWith = [&] {
+        std::vector<DeviceInfo> others;
+        for (size_t i = 1; i < contexts.size(); ++i) others.push_back(contexts[i]->deviceInfo());
+        return others;
+    };
 
     // Bands stream into the image files as they complete (written under
     // temporary names, renamed only once the render is complete and clean);
@@ -83,18 +120,18 @@ int runRenderCommand(const RenderCommandOptions& options) {
     auto renderInto = [&](const std::filesystem::path& mainImage) {
         ImageFileSink sink(mainImage, aovs, options.tonemap, renderer->layout(), settings.samplesPerPixel);
         ProgressBar bar("rendering", !options.quiet);
-        result = renderer->renderTo(sink, [&](double f) { bar.update(f); });
+        result = renderOnDevices(shares, sink, [&](double f) { bar.update(f); });
         bar.finish();
         if (result.lostSamples > 0)
             std::cerr << "warning: the driver cut " << result.lostSamples
                       << " camera samples short (lavapipe's loop iteration cap); the image is incomplete there\n";
-        if (ctx.validationMessageCount() > 0) return false;
+        if (validationMessages() > 0) return false;
         files = sink.finish();
         return true;
     };
     auto recordJson = [&] {
         return renderRecordJson({.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
-                                 .device = ctx.deviceInfo(), .result = &result, .files = files, .loadSeconds = loadSeconds});
+                                 .device = ctx.deviceInfo(), .sharedWith = sharedWith(), .result = &result, .files = files, .loadSeconds = loadSeconds});
     };
     bool clean = true;
     if (options.output) {
@@ -117,7 +154,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
         }
     }
     if (!clean) {
-        std::cerr << "whitted: the Vulkan validation layer reported " << ctx.validationMessageCount()
+        std::cerr << "whitted: the Vulkan validation layer reported " << validationMessages()
                   << " message(s); no image written\n";
         return kExitValidation;
     }

@@ -53,6 +53,7 @@ std::string renderRecordJson(const RenderRecord& r) {
           {"bands", res.bands},
           {"mean_spp", double(res.samplesTaken) / std::max(1.0, double(res.width) * res.height)}}},
         {"device", {{"name", r.device.name}, {"type", r.device.type}, {"driver", r.device.driver}}},
+        {"devices", 1 + r.sharedWith.size()},
         {"timings_s",
          {{"load", r.loadSeconds},
           {"bvh_build", res.bvh.buildSeconds},

@@ -18,6 +18,7 @@ struct RenderRecord {
     RenderSettings settings;
     std::string tonemap;
     DeviceInfo device;
+    std::vector<DeviceInfo> sharedWith;  // further devices that rendered bands (--device all)
     const RenderResult* result = nullptr;
     std::vector<std::filesystem::path> files;
     double loadSeconds = 0;  // reading and checking the scene file

@@ -22,7 +22,8 @@ struct ImageLayout {
 
 // One band: rows [y0, y0 + rows) of the region, every column of it.
 struct BandView {
-    int y0 = 0;    // image row of the band's first row
+    int index = 0;  // bands are numbered from 0, top to bottom
+    int y0 = 0;     // image row of the band's first row
     int rows = 0;
     int width = 0;  // the region's width
     // Means over each pixel's samples, [layer][row][column][rgba]; the

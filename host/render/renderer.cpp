@@ -504,7 +504,8 @@ void Renderer::renderBandAdaptive(Batch& batch, const PixelRect& band) {
     }
 }
 
-RenderResult Renderer::renderTo(BandSink& sink, const ProgressCallback& progress) {
+RenderResult Renderer::renderTo(BandSink& sink, const ProgressCallback& progress, uint32_t firstBand,
+                                uint32_t bandStep) {
     if (settings_.bandBytes == 0) throw std::logic_error("Renderer::renderTo needs bands (RenderSettings::bandBytes)");
     auto start = Clock::now();
     RenderResult result;
@@ -517,7 +518,10 @@ RenderResult Renderer::renderTo(BandSink& sink, const ProgressCallback& progress
 
     const PixelRegion& region = layout_.region;
     std::vector<float> counts;
-    for (int y = region.y0; y < region.y1; y += int(bandRows_)) {
+    uint32_t bandCount = (uint32_t(region.height()) + bandRows_ - 1) / bandRows_;
+    uint32_t mine = firstBand < bandCount ? (bandCount - firstBand + bandStep - 1) / bandStep : 0;
+    for (uint32_t index = firstBand; index < bandCount; index += bandStep) {
+        int y = region.y0 + int(index * bandRows_);
         PixelRect band{uint32_t(region.x0), uint32_t(y), uint32_t(region.width()),
                        uint32_t(std::min<int>(int(bandRows_), region.y1 - y))};
         if (settings_.antiAliasing == AntiAliasing::Adaptive)
@@ -539,10 +543,10 @@ RenderResult Renderer::renderTo(BandSink& sink, const ProgressCallback& progress
                 for (int c = 0; c < 4; ++c) raw[(layer * pixels + i) * 4 + c] *= inverse;
             }
         std::span<const float> means(raw, size_t(layerCount_) * pixels * 4);
-        sink.writeBand({.y0 = y, .rows = int(band.height), .width = int(band.width), .layers = means,
+        sink.writeBand({.index = int(index), .y0 = y, .rows = int(band.height), .width = int(band.width), .layers = means,
                         .sampleCounts = counts});
         ++result.bands;
-        if (progress) progress(double(y + int(band.height) - region.y0) / double(region.height()));
+        if (progress) progress(double(result.bands) / double(mine));
     }
     result.renderSeconds = secondsSince(start);
     result.uploadSeconds = uploadSeconds_;

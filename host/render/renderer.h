@@ -10,6 +10,7 @@
 #include "vk/buffer.h"
 #include "vk/compute_pipeline.h"
 
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <vector>
@@ -61,10 +62,18 @@ public:
     Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings& settings);
     // Renders the region band by band into `sink` (rows top to bottom); the
     // result carries the statistics, not the pixels.
-    RenderResult renderTo(BandSink& sink, const ProgressCallback& progress = {});
+    // With bandStep > 1 only bands firstBand, firstBand + bandStep, ... (the
+    // share of one of several devices, render/multi_device.h); progress then
+    // counts this renderer's share.
+    RenderResult renderTo(BandSink& sink, const ProgressCallback& progress = {}, uint32_t firstBand = 0,
+                          uint32_t bandStep = 1);
     // The same, with every band kept in the result's layers.
     RenderResult render(const ProgressCallback& progress = {});
     const ImageLayout& layout() const { return layout_; }
+    // Rows of the region per band; lowering it (never raising) lets several
+    // renderers share one band layout.
+    uint32_t bandRows() const { return bandRows_; }
+    void limitBandRows(uint32_t rows) { bandRows_ = std::clamp<uint32_t>(rows, 1, bandRows_); }
 
     // Progressive use (`whitted view`): the output buffer keeps its sums
     // between calls and the caller records the dispatches into its own
