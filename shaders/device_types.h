@@ -97,8 +97,11 @@ struct Primitive {
 struct Material {
     vec4 diffuse;
     vec4 specular;
-    vec4 coefs0;  // ka, kd, ks, shininess
-    vec4 coefs1;  // kr, kt, ior, 0
+    vec4 coefs0;         // ka, kd, ks, shininess
+    vec4 coefs1;         // kr, kt, ior, 0
+    vec4 checker;        // checker colour rgb, cell size (0: no checker)
+    vec4 checkerOrigin;  // xyz: the object's position, where a cell starts
+    vec4 absorption;     // sigma rgb per unit length inside the object, 0
 };
 
 struct Light {

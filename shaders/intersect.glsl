@@ -9,6 +9,7 @@
 #ifndef WHITTED_INTERSECT_GLSL
 #define WHITTED_INTERSECT_GLSL
 #include "scene.glsl"
+#include "material.glsl"
 #include "shapes/primitive.glsl"
 
 // Entry distance of the ray into a node's box within [0, tMax], or -1.
@@ -69,11 +70,12 @@ bool intersectPrimitiveAt(uint i, const uint mask, Ray ray, float tMin, inout fl
 
 // Tests primitive i for either query. Closest hit (shadow = false): updates
 // hit. Shadow ray: filters transmittance by a crossing of a transparent
-// surface, sets blocked at an opaque one. A primitive is convex or flat, so
-// after a first crossing a shadow ray tests it once more from there
+// surface, sets blocked at an opaque one, and adds the crossing's share of
+// the optical depth (see shadowTransmittance). A primitive is convex or
+// flat, so after a first crossing a shadow ray tests it once more from there
 // (tFrom). Returns whether the next primitive is due.
 bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shadow, inout Hit hit,
-                   inout vec3 transmittance, inout float tFrom, inout bool blocked) {
+                   inout vec3 transmittance, inout vec3 opticalDepth, inout float tFrom, inout bool blocked) {
     vec3 n;
     if (!shadow) {
         if (intersectPrimitiveAt(i, mask, ray, 0.0, hit.t, n)) {
@@ -89,10 +91,17 @@ bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shad
             blocked = true;
             return true;
         }
-        Material m = materials[primitives[i].info.y];
-        float kt = m.coefs1.y;
-        if (kt <= 0.0) blocked = true;
-        else transmittance *= kt * mix(vec3(1.0), m.diffuse.rgb, m.coefs0.y);
+        uint k = primitives[i].info.y;
+        float kt = materials[k].coefs1.y;
+        if (kt <= 0.0) {
+            blocked = true;
+        } else {
+            // The pigment at the crossing, as POV-Ray's filter takes it.
+            vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz,
+                              ray.origin + t * ray.dir);
+            transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
+            opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
+        }
     }
     if (crossed && tFrom == 0.0) {
         tFrom = t;
@@ -121,13 +130,15 @@ uint entryOf(BvhNode node, uint index) {
     return floatBitsToUint(node.hi.w) > 0u ? (kLeafEntry | index) : floatBitsToUint(node.lo.w);
 }
 
-bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance) {
+bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
+                   inout vec3 opticalDepth) {
     float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
     bool blocked = false;
     if (kListShapeMask != 0u) {
         uint i = params.accel.y, end = params.accel.y + params.accel.z;
         while (i < end) {
-            if (testPrimitive(i, kListShapeMask, ray, tMax, shadow, hit, transmittance, tFrom, blocked)) ++i;
+            if (testPrimitive(i, kListShapeMask, ray, tMax, shadow, hit, transmittance, opticalDepth, tFrom,
+                              blocked)) ++i;
             if (blocked) return false;
         }
     }
@@ -178,7 +189,8 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             }
         }
         if (prim < primEnd) {
-            if (testPrimitive(prim, kShapeMask, ray, tMax, shadow, hit, transmittance, tFrom, blocked)) ++prim;
+            if (testPrimitive(prim, kShapeMask, ray, tMax, shadow, hit, transmittance, opticalDepth, tFrom,
+                              blocked)) ++prim;
             if (blocked) return false;
             running = true;
         }
@@ -191,8 +203,8 @@ bool traceClosest(Ray ray, float tMax, out Hit hit) {
     hit.t = tMax;
     hit.normal = vec3(0.0);
     hit.primitive = 0xffffffffu;
-    vec3 unused = vec3(1.0);
-    traverseScene(ray, tMax, false, hit, unused);
+    vec3 unused = vec3(1.0), unusedDepth = vec3(0.0);
+    traverseScene(ray, tMax, false, hit, unused, unusedDepth);
     return hit.primitive != 0xffffffffu;
 }
 
@@ -203,11 +215,21 @@ bool traceClosest(Ray ray, float tMax, out Hit hit) {
 // twice (in and out), the same as a closed glass mesh. The product does not
 // depend on the order, so the BVH is walked without sorting and the walk
 // ends at the first opaque hit.
+//
+// Absorption (Beer-Lambert) inside objects with sigma > 0 multiplies by
+// exp(-sigma * d), d the length inside. The crossings come unordered, so
+// each adds to a signed optical depth: sigma * t when leaving (by the
+// geometric normal), -sigma * t when entering, which sums to sigma times the
+// length between an entry and its exit for any closed surface, meshes
+// included, and to sigma * t for a ray that starts inside (a point shaded
+// on the inside of glass). A light inside an absorbing object would leave an
+// entry unmatched: the clamp at 0 then drops that object's absorption.
 vec3 shadowTransmittance(Ray ray, float tMax) {
     Hit unused;
     unused.t = tMax;
-    vec3 transmittance = vec3(1.0);
-    return traverseScene(ray, tMax, true, unused, transmittance) ? transmittance : vec3(0.0);
+    vec3 transmittance = vec3(1.0), opticalDepth = vec3(0.0);
+    if (!traverseScene(ray, tMax, true, unused, transmittance, opticalDepth)) return vec3(0.0);
+    return transmittance * exp(-max(opticalDepth, vec3(0.0)));
 }
 
 #endif

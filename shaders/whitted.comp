@@ -105,17 +105,21 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         vec3 p = ray.origin + hit.t * ray.dir;
         vec3 pOutside = offsetRay(p, n);
         vec3 ns = shadingNormal(prim, p, n, -ray.dir);
+        // Beer-Lambert: a ray that hits the inside of an object travelled
+        // hit.t through it, so all that comes back along it is attenuated.
+        if (!frontFace) pending.weight *= exp(-m.absorption.rgb * hit.t);
+        m.diffuse.rgb = pigment(m.diffuse.rgb, m.checker, m.checkerOrigin.xyz, p);
 
         LocalShading local = shadeLocal(m, pOutside, ns, n, -ray.dir);
         rayCount.y += local.shadowRays;
-        if (pending.depth == 0u) {
-            result.components[0] += local.ambient;
-            result.components[1] += local.diffuse;
-            result.components[2] += local.specular;
+        if (pending.depth == 0u) {  // weight 1 unless the camera is inside an absorbing object
+            result.components[0] += pending.weight * local.ambient;
+            result.components[1] += pending.weight * local.diffuse;
+            result.components[2] += pending.weight * local.specular;
             result.normal += vec4(ns, 1.0);
             result.coefs0 += vec4(m.coefs0.xyz, hit.t);
             result.coefs1 += vec4(kr, kt, ior, 1.0);
-            sampleColor += local.ambient + local.diffuse + local.specular;
+            sampleColor += pending.weight * (local.ambient + local.diffuse + local.specular);
             sampleObject = prim.info.y;
         } else {
             vec3 light = pending.weight * (local.ambient + local.diffuse + local.specular);

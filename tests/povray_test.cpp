@@ -80,6 +80,9 @@ constexpr int kMaxDepth = 6;
 //   three_diffuse_spheres   47.2 dB  0.09  1.9
 //   glass_shadows_out_of_view (ColouredShadowsOfGlassOutOfView)
 //                           51.1 dB  0.09  1.3
+//   checker                 47.2 dB  0.20  2.2
+//   absorbing_glass_shadows (AbsorbingGlassShadowsOutOfView)
+//                           51.2 dB  0.08  1.3
 // What is left is sampling noise on silhouettes and shadow edges (16
 // jittered samples here, a regular 4x4 grid in POV-Ray): the difference
 // images show outlines only. Known bugs, put in on one side only
@@ -345,8 +348,7 @@ TEST(PovrayCrossCheck, ComparedScenesInScenesFolder) {
 // the glass itself differs, so here it hangs above the image: a red glass
 // sphere and a blue glass box, whose shadows overlap each other and an
 // opaque sphere's on the floor in view.
-TEST(PovrayCrossCheck, ColouredShadowsOfGlassOutOfView) {
-    const std::string xml = R"(<scene>
+const std::string kGlassShadowsXml = R"(<scene>
   <camera><position x="0" y="3" z="3"/><window_position x="0" y="2.2" z="2.4"/><fov>40</fov></camera>
   <ambient_light r="1" g="1" b="1"/>
   <lights>
@@ -368,7 +370,24 @@ TEST(PovrayCrossCheck, ColouredShadowsOfGlassOutOfView) {
         <refraction_coef>1.3</refraction_coef><diffuse_coef>0.5</diffuse_coef></properties></object>
   </objects>
 </scene>)";
-    expectAgreement("glass_shadows_out_of_view", loadSceneFromString(xml, "glass_shadows_out_of_view.xml"));
+
+TEST(PovrayCrossCheck, ColouredShadowsOfGlassOutOfView) {
+    expectAgreement("glass_shadows_out_of_view",
+                    loadSceneFromString(kGlassShadowsXml, "glass_shadows_out_of_view.xml"));
+}
+
+// The same glass with absorption: POV-Ray's exponential fade (fade_power
+// 1001) attenuates shadow rays by exp(-sigma d) over the length inside, as
+// ours (README, "Shading model"); the sphere's chords and the thin box's
+// slanted paths give a range of lengths.
+TEST(PovrayCrossCheck, AbsorbingGlassShadowsOutOfView) {
+    std::string xml = kGlassShadowsXml;
+    for (const char* glass : {"<radius>0.7</radius>", "<size x=\"1\" y=\"0.3\" z=\"0.8\"/>"}) {
+        size_t at = xml.find(glass);
+        ASSERT_NE(at, std::string::npos);
+        xml.insert(at, R"(<absorption r="0.2" g="1.5" b="0.6"/>)");
+    }
+    expectAgreement("absorbing_glass_shadows", loadSceneFromString(xml, "absorbing_glass_shadows.xml"));
 }
 
 // The exporter executable: writes what exportPovray() writes, and reports a

@@ -318,6 +318,22 @@ TEST(SceneLoaderTest, ShininessAndReflectionCoefficient) {
     EXPECT_EQ(material("<refraction_coef>0.5</refraction_coef>").ior, 0.5) << "relative IOR below 1";
 }
 
+// The checker is anchored at the object's <position> (the origin for a mesh
+// or triangle without one); absorption is per channel.
+TEST(SceneLoaderTest, CheckerAndAbsorption) {
+    const Material plain = load(sphereWith("<radius>1</radius>")).objects[0].material;
+    EXPECT_EQ(plain.checkerSize, 0.0);
+    EXPECT_EQ(plain.absorption, glm::dvec3(0));
+    Scene scene =
+        load(sphereWith("<radius>1</radius><checker_color r=\"0.1\" g=\"0.2\" b=\"0.3\"/>"
+                        "<checker_size>0.25</checker_size><absorption r=\"0\" g=\"0.5\" b=\"2\"/>"));
+    const Material& m = scene.objects[0].material;
+    EXPECT_EQ(m.checkerColor, glm::dvec3(0.1, 0.2, 0.3));
+    EXPECT_EQ(m.checkerSize, 0.25);
+    EXPECT_EQ(m.checkerOrigin, std::get<Sphere>(scene.objects[0].shape).center);
+    EXPECT_EQ(m.absorption, glm::dvec3(0, 0.5, 2));
+}
+
 TEST(SceneLoaderTest, PlaneTriangleBoxAndCylinderAxis) {
     Scene s =
         load(sceneWith(objectOf("plane", "<normal x=\"0\" y=\"2\" z=\"0\"/>", "<position x=\"0\" y=\"-1\" z=\"0\"/>") +
@@ -471,7 +487,8 @@ std::string nested(int depth) {
 
 const std::string kPropertyList =
     "type, refraction_coef, transmission_coef, specular_coef, diffuse_coef, ambiente_coef, reflective, shininess, "
-    "reflection_coef, radius, height, axis, normal, size, vertex, polygons, file, scale, rotation";
+    "reflection_coef, checker_color, checker_size, absorption, radius, height, axis, normal, size, vertex, polygons, "
+    "file, scale, rotation";
 
 std::vector<BadCase> xmlCases() {
     const std::string camera =
@@ -697,6 +714,18 @@ std::vector<BadCase> objectCases() {
         {"MissingPosition", sceneWith(objectOf("sphere", "<radius>1</radius>", "")),
          "t.xml:8: <object> is missing <position> (required for type sphere)"},
         {"MissingRadius", sphereWith(""), "t.xml:8: <object> is missing <radius> (required for type sphere)"},
+        {"CheckerColorWithoutSize", sphereWith("<radius>1</radius>\n<checker_color r=\"0\" g=\"0\" b=\"0\"/>"),
+         "t.xml:13: <checker_color> needs <checker_size> beside it in <properties>"},
+        {"CheckerSizeWithoutColor", sphereWith("<radius>1</radius>\n<checker_size>1</checker_size>"),
+         "t.xml:13: <checker_size> needs <checker_color> beside it in <properties>"},
+        {"CheckerSizeZero",
+         sphereWith("<radius>1</radius><checker_color r=\"0\" g=\"0\" b=\"0\"/>\n<checker_size>0</checker_size>"),
+         "t.xml:13: <checker_size> must be > 0, got 0"},
+        {"CheckerColorAboveOne",
+         sphereWith("<radius>1</radius>\n<checker_color r=\"2\" g=\"0\" b=\"0\"/><checker_size>1</checker_size>"),
+         "t.xml:13: attribute r of <checker_color> must be in [0, 1], got 2"},
+        {"NegativeAbsorption", sphereWith("<radius>1</radius>\n<absorption r=\"0\" g=\"-0.5\" b=\"0\"/>"),
+         "t.xml:13: attribute g of <absorption> must be >= 0, got -0.5"},
         {"CylinderMissingHeight", sceneWith(objectOf("cylinder", "<radius>1</radius>")),
          "t.xml:8: <object> is missing <height> (required for type cylinder)"},
         {"CylinderZeroHeight", sceneWith(objectOf("cylinder", "<radius>1</radius>\n<height>0</height>")),
@@ -768,22 +797,27 @@ std::vector<BadCase> objectCases() {
          "t.xml:13: <scale> does not apply to type box"},
         {"RotationOnTriangle", sceneWith(objectOf("triangle", triangle3 + "\n<rotation x=\"0\" y=\"90\" z=\"0\"/>")),
          "t.xml:13: <rotation> does not apply to type triangle"},
-        {"ZeroScale", sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<scale>0</scale>")),
+        {"ZeroScale",
+         sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<scale>0</scale>")),
          "t.xml:13: <scale> must be > 0, got 0"},
         {"NegativeScaleComponent",
-         sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<scale x=\"1\" y=\"-1\" z=\"1\"/>")),
+         sceneWith(objectOf(
+             "mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<scale x=\"1\" y=\"-1\" z=\"1\"/>")),
          "t.xml:13: attribute y of <scale> must be > 0, got -1"},
         {"ScaledBeyondRange",
-         sceneWith(objectOf("mesh", "<polygons><polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1e6\" y=\"0\" "
-                                    "z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/></polygon></polygons>\n<scale>2</scale>")),
+         sceneWith(objectOf("mesh",
+                            "<polygons><polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1e6\" y=\"0\" "
+                            "z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/></polygon></polygons>\n<scale>2</scale>")),
          "t.xml:12: <scale> and <rotation> take vertex (1e+06, 0, 0) beyond ±1e6 of the object's <position>"},
         {"RotatedBeyondRange",
-         sceneWith(objectOf("mesh", "<polygons><polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1e6\" y=\"1e6\" "
-                                    "z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/></polygon></polygons>\n"
-                                    "<rotation x=\"0\" y=\"0\" z=\"45\"/>")),
+         sceneWith(objectOf("mesh",
+                            "<polygons><polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1e6\" y=\"1e6\" "
+                            "z=\"0\"/><vertex x=\"0\" y=\"1\" z=\"0\"/></polygon></polygons>\n"
+                            "<rotation x=\"0\" y=\"0\" z=\"45\"/>")),
          "t.xml:12: <scale> and <rotation> take vertex (1e+06, 1e+06, 0) beyond ±1e6 of the object's <position>"},
         {"RotationMissingZ",
-         sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "</polygon></polygons>\n<rotation><x>1</x><y>2</y></rotation>")),
+         sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 +
+                                        "</polygon></polygons>\n<rotation><x>1</x><y>2</y></rotation>")),
          "t.xml:13: <rotation> is missing <z>"},
     };
 }

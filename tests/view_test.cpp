@@ -326,6 +326,10 @@ TEST(SceneWriter, RoundTripGivesEqualScene) {
             EXPECT_EQ(m.reflection, n.reflection);
             EXPECT_EQ(m.transmission, n.transmission);
             EXPECT_EQ(m.ior, n.ior);
+            EXPECT_EQ(m.checkerColor, n.checkerColor);
+            EXPECT_EQ(m.checkerSize, n.checkerSize);
+            EXPECT_EQ(m.checkerOrigin, n.checkerOrigin);
+            EXPECT_EQ(m.absorption, n.absorption);
             std::string what = "object " + std::to_string(i);
             std::visit(
                 [&](const auto& s) {
@@ -361,6 +365,29 @@ TEST(SceneWriter, RoundTripGivesEqualScene) {
                 x.shape);
         }
     }
+}
+
+// A triangle or mesh is written in world space without a position, except
+// with a checker anchored at its <position>: then the position is written
+// and the vertices relative to it (equal within rounding).
+TEST(SceneWriter, CheckerOfATriangleKeepsItsOrigin) {
+    Scene a = loadSceneFromString(R"(<scene><camera><position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/>
+      </camera><lights/><objects><object><position x="0.3" y="-1.7" z="2.1"/><properties><type>triangle</type>
+      <vertex x="0" y="0" z="0"/><vertex x="1" y="0.1" z="0"/><vertex x="0" y="1" z="0.3"/>
+      <checker_color r="0" g="0" b="1"/><checker_size>0.2</checker_size><absorption r="0.5" g="0" b="0"/>
+      </properties></object></objects></scene>)",
+                                  "a.xml");
+    Scene b = loadSceneFromString(sceneXml(a), "b.xml");
+    const Material &m = a.objects[0].material, &n = b.objects[0].material;
+    EXPECT_EQ(n.checkerOrigin, glm::dvec3(0.3, -1.7, 2.1));
+    EXPECT_EQ(m.checkerOrigin, n.checkerOrigin);
+    EXPECT_EQ(n.checkerSize, 0.2);
+    EXPECT_EQ(n.checkerColor, glm::dvec3(0, 0, 1));
+    EXPECT_EQ(n.absorption, glm::dvec3(0.5, 0, 0));
+    const Triangle &s = std::get<Triangle>(a.objects[0].shape), &t = std::get<Triangle>(b.objects[0].shape);
+    expectClose(s.v0, t.v0, "v0");
+    expectClose(s.v1, t.v1, "v1");
+    expectClose(s.v2, t.v2, "v2");
 }
 
 TEST(SceneWriter, WritesAtomically) {

@@ -34,17 +34,22 @@ std::string where(const Scene& scene, const Object& object) {
 std::string texture(const Material& m, bool shadows) {
     std::ostringstream s;
     if (!shadows) s << "  no_shadow\n";
-    if (m.transmission > 0.0) {
-        // Shadow rays through the surface are filtered by filter·Cd +
-        // transmit = kt·mix(white, Cd, kd) per crossing, exactly as ours.
-        // Approximate: refracted light is filtered the same way (ours: kt
-        // alone) and POV-Ray dims the local terms by the pigment's opacity.
-        s << "  pigment { rgbft <" << num(m.diffuseColor.r) << ", " << num(m.diffuseColor.g) << ", "
-          << num(m.diffuseColor.b) << ", " << num(m.transmission * m.diffuse) << ", "
-          << num(m.transmission * (1.0 - m.diffuse)) << "> }\n";
-    } else {
-        s << "  pigment { rgb " << vec(m.diffuseColor) << " }\n";
-    }
+    // Shadow rays through a transparent surface are filtered by filter·Cd +
+    // transmit = kt·mix(white, Cd, kd) per crossing, exactly as ours.
+    // Approximate: refracted light is filtered the same way (ours: kt alone)
+    // and POV-Ray dims the local terms by the pigment's opacity.
+    auto colour = [&](const glm::dvec3& c) {
+        if (m.transmission <= 0.0) return "rgb " + vec(c);
+        return "rgbft <" + num(c.r) + ", " + num(c.g) + ", " + num(c.b) + ", " + num(m.transmission * m.diffuse) +
+               ", " + num(m.transmission * (1.0 - m.diffuse)) + ">";
+    };
+    // The checker is POV-Ray's own pattern (first colour in the cells of
+    // even sum), scaled and moved as ours; same coordinates (see the camera).
+    if (m.checkerSize > 0.0)
+        s << "  pigment { checker " << colour(m.diffuseColor) << " " << colour(m.checkerColor) << " scale "
+          << num(m.checkerSize) << " translate " << vec(m.checkerOrigin) << " }\n";
+    else
+        s << "  pigment { " << colour(m.diffuseColor) << " }\n";
     // Every finish value is written, so POV-Ray's defaults (ambient 0.1,
     // diffuse 0.6, phong_size 40, ...) never apply.
     s << "  finish {\n"
@@ -56,7 +61,18 @@ std::string texture(const Material& m, bool shadows) {
     glm::dvec3 reflection = m.reflection * m.specularColor;
     s << "    reflection { rgb " << vec(reflection) << " }\n"
       << "  }\n";
-    if (m.transmission > 0.0) s << "  interior { ior " << num(m.ior) << " }\n";
+    if (m.transmission > 0.0) {
+        s << "  interior { ior " << num(m.ior);
+        // POV-Ray's exponential fade (fade_power >= 1000) multiplies light
+        // that travelled d inside, refracted or shadow, by
+        // exp(-(1 - fade_color)·d / fade_distance): with fade_distance
+        // 1/max(sigma) and fade_color 1 - sigma/max(sigma), exp(-sigma·d).
+        double sigmaMax = std::max({m.absorption.r, m.absorption.g, m.absorption.b});
+        if (sigmaMax > 0.0)
+            s << " fade_distance " << num(1.0 / sigmaMax) << " fade_power 1001 fade_color rgb "
+              << vec(glm::dvec3(1.0) - m.absorption / sigmaMax);
+        s << " }\n";
+    }
     return s.str();
 }
 

@@ -11,7 +11,9 @@ namespace whitted {
 // The GLSL side reads these with std430 (storage) and std140 (uniform)
 // rules; vec4-only members make both match the C++ layout.
 static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, info) == 48);
-static_assert(sizeof(gpu::Material) == 64 && offsetof(gpu::Material, coefs1) == 48);
+static_assert(sizeof(gpu::Material) == 112 && offsetof(gpu::Material, coefs1) == 48 &&
+              offsetof(gpu::Material, checker) == 64 && offsetof(gpu::Material, checkerOrigin) == 80 &&
+              offsetof(gpu::Material, absorption) == 96);
 static_assert(sizeof(gpu::Light) == 32);
 static_assert(sizeof(gpu::FrameParams) == 160 && offsetof(gpu::FrameParams, accel) == 112 &&
               offsetof(gpu::FrameParams, addresses1) == 144);
@@ -25,7 +27,10 @@ gpu::Material packMaterial(const Material& m) {
     return {.diffuse = glm::vec4(glm::vec3(m.diffuseColor), 1.0f),
             .specular = glm::vec4(glm::vec3(m.specularColor), 1.0f),
             .coefs0 = glm::vec4(float(m.ambient), float(m.diffuse), float(m.specular), float(m.shininess)),
-            .coefs1 = glm::vec4(float(m.reflection), float(m.transmission), float(m.ior), 0.0f)};
+            .coefs1 = glm::vec4(float(m.reflection), float(m.transmission), float(m.ior), 0.0f),
+            .checker = glm::vec4(glm::vec3(m.checkerColor), float(m.checkerSize)),
+            .checkerOrigin = glm::vec4(glm::vec3(m.checkerOrigin), 0.0f),
+            .absorption = glm::vec4(glm::vec3(m.absorption), 0.0f)};
 }
 
 // Camera frame: image right = cross(forward, up), right and up scaled to the

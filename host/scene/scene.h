@@ -40,6 +40,13 @@ struct Material {
     double reflection = 0.0;            // kr (defaults to ks when reflective)
     double transmission = 0.0;          // kt
     double ior = 1.0;                   // index of refraction against air
+    // Solid checker (POV-Ray's checker pigment scaled by checkerSize): the
+    // cell floor((p - checkerOrigin) / size + 0.001) with an odd sum of its
+    // coordinates takes checkerColor instead of Cd. checkerSize 0: none.
+    glm::dvec3 checkerColor{1, 1, 1};
+    double checkerSize = 0.0;
+    glm::dvec3 checkerOrigin{0, 0, 0};  // the object's <position> (with a checker)
+    glm::dvec3 absorption{0, 0, 0};     // Beer-Lambert sigma per unit length, inside the object
 };
 
 struct Sphere {

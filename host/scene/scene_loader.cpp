@@ -301,6 +301,9 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"reflective"},
                                                {"shininess"},
                                                {"reflection_coef"},
+                                               {"checker_color"},
+                                               {"checker_size"},
+                                               {"absorption"},
                                                {"radius"},
                                                {"height"},
                                                {"axis"},
@@ -553,6 +556,9 @@ private:
         result.sourceLine = e->GetLineNum();
         result.material = readMaterial(object, properties);
         result.shape = readShape(type, object, properties);
+        // A checker is anchored at the object's position (the origin without one).
+        const XMLElement* position = object.optional("position");
+        if (position && result.material.checkerSize > 0) result.material.checkerOrigin = vector(position);
 
         // The shape readers took what their type uses; anything left over
         // belongs to another type.
@@ -584,6 +590,19 @@ private:
         } else if (isReflective) {
             m.reflection = m.specular;
         }
+
+        // A checker takes its second colour and its cell size together.
+        const XMLElement* checkerColor = properties.optional("checker_color");
+        const XMLElement* checkerSize = properties.optional("checker_size");
+        if (checkerColor && !checkerSize)
+            diag_.fail(checkerColor, "<checker_color> needs <checker_size> beside it in <properties>");
+        if (checkerSize && !checkerColor)
+            diag_.fail(checkerSize, "<checker_size> needs <checker_color> beside it in <properties>");
+        if (checkerColor) {
+            m.checkerColor = colour(checkerColor, kUnitInterval);
+            m.checkerSize = number(checkerSize, kPositive);
+        }
+        if (const XMLElement* a = properties.optional("absorption")) m.absorption = colour(a, kNonNegative);
         return m;
     }
 

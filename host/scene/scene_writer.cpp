@@ -48,15 +48,25 @@ void writeCamera(XmlOut& x, const Camera& c) {
     x.close("camera");
 }
 
-void writeTriangleVertices(XmlOut& x, const Triangle& t) {
-    x.vector("vertex", t.v0);
-    x.vector("vertex", t.v1);
-    x.vector("vertex", t.v2);
+// Vertices relative to `origin`, the <position> written for the object.
+void writeTriangleVertices(XmlOut& x, const Triangle& t, const glm::dvec3& origin) {
+    x.vector("vertex", t.v0 - origin);
+    x.vector("vertex", t.v1 - origin);
+    x.vector("vertex", t.v2 - origin);
 }
 
 void writeObject(XmlOut& x, const Object& o) {
     const Material& m = o.material;
     x.open("object");
+    // Triangles and meshes are written in world space without a position,
+    // unless their checker is anchored elsewhere: then at the checker's
+    // origin, vertices relative to it.
+    bool hasVertices = std::holds_alternative<Triangle>(o.shape) || std::holds_alternative<Mesh>(o.shape);
+    glm::dvec3 vertexOrigin(0);
+    if (hasVertices && m.checkerSize > 0 && m.checkerOrigin != glm::dvec3(0)) {
+        vertexOrigin = m.checkerOrigin;
+        x.vector("position", vertexOrigin);
+    }
     // Position first (the seed's order), for the shapes that have one.
     std::visit(
         [&](const auto& s) {
@@ -83,6 +93,11 @@ void writeObject(XmlOut& x, const Object& o) {
     x.value("ambiente_coef", m.ambient);
     x.value("shininess", m.shininess);
     x.value("reflection_coef", m.reflection);  // kr itself; <reflective> is left out
+    if (m.checkerSize > 0) {
+        x.colour("checker_color", m.checkerColor);
+        x.value("checker_size", m.checkerSize);
+    }
+    if (m.absorption != glm::dvec3(0)) x.colour("absorption", m.absorption);
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
@@ -95,14 +110,14 @@ void writeObject(XmlOut& x, const Object& o) {
             } else if constexpr (std::is_same_v<T, Plane>) {
                 x.vector("normal", s.normal);
             } else if constexpr (std::is_same_v<T, Triangle>) {
-                writeTriangleVertices(x, s);  // no position: the vertices are world space
+                writeTriangleVertices(x, s, vertexOrigin);
             } else if constexpr (std::is_same_v<T, Box>) {
                 x.vector("size", s.max - s.min);
             } else {
                 x.open("polygons");
                 for (const Triangle& t : s.triangles) {
                     x.open("polygon");
-                    writeTriangleVertices(x, t);
+                    writeTriangleVertices(x, t, vertexOrigin);
                     x.close("polygon");
                 }
                 x.close("polygons");

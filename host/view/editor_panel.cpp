@@ -118,6 +118,7 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         ImGui::Text("object %d: %s", state.selectedObject, shapeName(o.shape));
         glm::dvec3 p = shapeReferencePoint(o.shape);
         if (editVector("position", p, 0.02f)) {
+            m.checkerOrigin += p - shapeReferencePoint(o.shape);  // the checker moves with the object
             translateShape(o.shape, p - shapeReferencePoint(o.shape));
             result.changed = true;
         }
@@ -137,6 +138,14 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         result.changed |= editScalar("reflection kr", m.reflection, 0, 1);
         result.changed |= editScalar("transmission kt", m.transmission, 0, 1);
         result.changed |= editScalar("IOR (refraction_coef)", m.ior, 1, 3);
+        if (m.checkerSize > 0) {
+            result.changed |= editColour("checker colour", m.checkerColor, false);
+            float size = float(m.checkerSize);
+            if (ImGui::DragFloat("checker size", &size, 0.01f, 1e-3f, 1e3f)) {
+                m.checkerSize = std::max(double(size), 1e-3);
+                result.changed = true;
+            }
+        }
     } else {
         ImGui::TextDisabled("select a light or an object");
     }
@@ -169,6 +178,7 @@ std::optional<std::string> setObjectField(Scene& scene, int object, const std::s
     if (axis < 0) return "unknown field '" + field + "' (ior, kt, kr, ks, kd, ka, x, y, z)";
     glm::dvec3 p = shapeReferencePoint(o.shape), target = p;
     target[axis] = value;
+    m.checkerOrigin += target - p;
     translateShape(o.shape, target - p);
     return std::nullopt;
 }
