@@ -77,7 +77,9 @@ TEST(Adaptive, FlatImageTakesOneSampleEdgesTakeMore) {
             double pixelsPerTan = 24.0 / std::tan(M_PI / 6);
             double radius = pixelsPerTan * 0.5 / std::sqrt(3.0 * 3.0 - 0.25);
             double d = std::abs(std::hypot(px, py) - radius);
-            if (d > 2.5) EXPECT_EQ(n, 1.0f) << x << "," << y;
+            if (d > 2.5) {
+                EXPECT_EQ(n, 1.0f) << x << "," << y;
+            }
             // A pixel beside the outline takes 4 samples that agree; one the
             // outline crosses goes on to the maximum.
             EXPECT_TRUE(n == 1 || n == 4 || n == 16) << n;
