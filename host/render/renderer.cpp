@@ -450,7 +450,8 @@ void Renderer::renderBandUniform(Batch& batch, const PixelRect& band) {
             uint32_t n = std::min(chunk, spp - s);
             gpu::TileParams params{.tile = asUvec4(tile),
                                    .samples = glm::uvec4(s, n, spp, s == 0 ? gpu::kTileOverwrite : 0u),
-                                   .outputRect = asUvec4(band)};
+                                   .outputRect = asUvec4(band),
+                                   .guideRect = {}};
             batch.add(params, groupsFor(tile.width), groupsFor(tile.height), pixels * n);
         }
     });
@@ -493,7 +494,8 @@ void Renderer::renderBandAdaptive(Batch& batch, const PixelRect& band) {
                 uint32_t flags = gpu::kTileList | gpu::kTileStats | (s == 0 ? gpu::kTileOverwrite : 0u);
                 gpu::TileParams params{.tile = glm::uvec4(first, count, 0, 0),
                                        .samples = glm::uvec4(s, k, n, flags),
-                                       .outputRect = asUvec4(band)};
+                                       .outputRect = asUvec4(band),
+                                   .guideRect = {}};
                 batch.add(params, (count + gpu::kListGroupSize - 1) / gpu::kListGroupSize, 1, uint64_t(count) * k);
             }
         }

@@ -52,7 +52,8 @@ uint64_t Progressive::record(const Renderer& renderer, const vk::raii::CommandBu
         uint32_t rows = uint32_t(std::max<uint64_t>(rowsPaid / kRowStep * kRowStep, kRowStep));
         rows = std::min(rows, uint32_t(height_) - nextRow_);
         renderer.recordTile(
-            cmd, {.tile = glm::uvec4(0, nextRow_, width_, rows), .samples = glm::uvec4(pass_, samples, 0, 0)});
+            cmd, {.tile = glm::uvec4(0, nextRow_, width_, rows), .samples = glm::uvec4(pass_, samples, 0, 0),
+                  .outputRect = {}, .guideRect = {}});
         recorded += uint64_t(width_) * rows * samples;
         nextRow_ += rows;
         if (nextRow_ == uint32_t(height_)) {

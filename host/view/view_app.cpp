@@ -338,6 +338,7 @@ void ViewApp::saveImages() {
                             .settings = settings,
                             .tonemap = "clamp",
                             .device = ctx_.deviceInfo(),
+                            .sharedWith = {},
                             .result = &result,
                             .files = files};
         writeTextFile(staging / "render.json", renderRecordJson(record));
