@@ -1,0 +1,86 @@
+// Traversal through the device's acceleration structures (VK_KHR_ray_query),
+// included by intersect.glsl in the shader variant compiled with
+// -DWHITTED_RAY_QUERY in place of the BVH walk. The renderer builds
+// (host/accel/acceleration_structure.cpp) a TLAS over at most two BLASes:
+// the bounded triangles as native triangles and the other bounded shapes
+// (spheres, cylinders, boxes) as AABBs. Both BLASes list every bounded
+// primitive in the order of the Primitive array, those of the other kind
+// inactive (NaN), so a primitive index from the query IS the index into
+// primitives[]; shading is unchanged. Planes stay outside, one by one.
+//
+// Closest hits: triangles are opaque geometry, committed by the driver
+// (its own watertight test; t may differ from ours in the last bits);
+// an AABB candidate is tested with the shape's own function and committed
+// with rayQueryGenerateIntersectionEXT when nearer than the committed hit.
+// Shadow rays with transparency: every candidate is looked at (ray flag
+// NoOpaque, no commits) and filters the light once per crossing; the BLASes
+// are built with NO_DUPLICATE_ANY_HIT, so each primitive comes once; the
+// first opaque crossing ends the query. Without transparency a shadow ray
+// stops at the first hit of any kind.
+#ifndef WHITTED_RAY_QUERY_GLSL
+#define WHITTED_RAY_QUERY_GLSL
+#include "scene.glsl"  // sceneTlas
+
+// Filters a shadow ray by one crossing of primitive i; false when it is opaque.
+bool filterCrossing(uint i, inout vec3 transmittance) {
+    Material m = materials[primitives[i].info.y];
+    float kt = m.coefs1.y;
+    transmittance *= kt * mix(vec3(1.0), m.diffuse.rgb, m.coefs0.y);
+    return kt > 0.0;
+}
+
+bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance) {
+    if (!traverseList(ray, tMax, shadow, hit, transmittance)) return false;
+    if (kShapeMask == 0u) return true;
+    // The shapes in the AABB BLAS.
+    const uint boxMask = kShapeMask & ~(1u << kShapeTriangle);
+    const bool filtering = shadow && kSceneHasTransparency;
+    uint flags = filtering ? gl_RayFlagsNoOpaqueEXT : (shadow ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT);
+    rayQueryEXT query;
+    rayQueryInitializeEXT(query, sceneTlas, flags, 0xffu, ray.origin, 0.0, ray.dir, shadow ? tMax : hit.t);
+    vec3 boxNormal = vec3(0.0);  // normal of the last AABB hit committed
+    bool blocked = false;
+    while (rayQueryProceedEXT(query)) {
+        uint i = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, false));
+        bool box = rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionAABBEXT;
+        vec3 n;
+        if (filtering) {
+            if (box && boxMask != 0u) {
+                // A convex shape is crossed at most twice: in, then out.
+                float t = tMax;
+                if (intersectPrimitiveAt(i, boxMask, ray, 0.0, t, n)) {
+                    float tOut = tMax;
+                    blocked = !filterCrossing(i, transmittance) ||
+                              (intersectPrimitiveAt(i, boxMask, ray, t, tOut, n) && !filterCrossing(i, transmittance));
+                }
+            } else if (!box) {
+                blocked = !filterCrossing(i, transmittance);
+            }
+            if (blocked) rayQueryTerminateEXT(query);
+        } else if (box && boxMask != 0u) {
+            float tBest = rayQueryGetIntersectionTypeEXT(query, true) != gl_RayQueryCommittedIntersectionNoneEXT
+                              ? rayQueryGetIntersectionTEXT(query, true)
+                              : (shadow ? tMax : hit.t);
+            if (intersectPrimitiveAt(i, boxMask, ray, 0.0, tBest, n)) {
+                rayQueryGenerateIntersectionEXT(query, tBest);
+                boxNormal = n;
+            }
+        }
+    }
+    if (filtering) return !blocked;
+    uint committed = rayQueryGetIntersectionTypeEXT(query, true);
+    if (committed == gl_RayQueryCommittedIntersectionNoneEXT) return true;
+    if (shadow) return false;
+    uint i = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, true));
+    hit.t = rayQueryGetIntersectionTEXT(query, true);
+    hit.primitive = i;
+    if (committed == gl_RayQueryCommittedIntersectionTriangleEXT) {
+        vec3 v0 = primitives[i].a.xyz, v1 = primitives[i].b.xyz, v2 = primitives[i].c.xyz;
+        hit.normal = normalize(cross(v1 - v0, v2 - v0));
+    } else {
+        hit.normal = boxNormal;
+    }
+    return true;
+}
+
+#endif
