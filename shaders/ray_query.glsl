@@ -5,8 +5,10 @@
 // the bounded triangles as native triangles and the other bounded shapes
 // (spheres, cylinders, boxes) as AABBs. Both BLASes list every bounded
 // primitive in the order of the Primitive array, those of the other kind
-// inactive (NaN), so a primitive index from the query IS the index into
-// primitives[]; shading is unchanged. Planes stay outside, one by one.
+// inactive (NaN vertices) or empty (a point box for a triangle: NaN boxes
+// made lavapipe miss them all), so a primitive index from the query IS the
+// index into primitives[]; shading is unchanged. Planes stay outside, one
+// by one.
 //
 // Closest hits: triangles are opaque geometry, committed by the driver
 // (its own watertight test; t may differ from ours in the last bits);
@@ -35,6 +37,7 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     // The shapes in the AABB BLAS.
     const uint boxMask = kShapeMask & ~(1u << kShapeTriangle);
     const bool filtering = shadow && kSceneHasTransparency;
+    const bool mixed = boxMask != 0u && (kShapeMask & (1u << kShapeTriangle)) != 0u;
     uint flags = filtering ? gl_RayFlagsNoOpaqueEXT : (shadow ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT);
     rayQueryEXT query;
     rayQueryInitializeEXT(query, sceneTlas, flags, 0xffu, ray.origin, 0.0, ray.dir, shadow ? tMax : hit.t);
@@ -43,6 +46,9 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     while (rayQueryProceedEXT(query)) {
         uint i = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, false));
         bool box = rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionAABBEXT;
+        // A triangle's stand-in in the AABB structure (an empty box at a
+        // vertex, host/accel/acceleration_structure.cpp) is no candidate.
+        if (mixed && box && primitives[i].info.x == kShapeTriangle) continue;
         vec3 n;
         if (filtering) {
             if (box && boxMask != 0u) {

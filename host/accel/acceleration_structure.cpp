@@ -12,7 +12,6 @@
 namespace whitted {
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr vk::BufferUsageFlags kBuildInput = vk::BufferUsageFlagBits::eShaderDeviceAddress |
                                              vk::BufferUsageFlagBits::eAccelerationStructureBuildInputReadOnlyKHR;
 
@@ -106,7 +105,7 @@ SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std:
     uint32_t count = uint32_t(bounded.size());
 
     // Geometry inputs: three vertices per primitive (NaN but for triangles)
-    // and one AABB per primitive (NaN but for the other bounded shapes), so
+    // and one AABB per primitive (empty but for the other bounded shapes), so
     // the query's primitive index is the Primitive's.
     bool anyTriangle = false, anyBox = false;
     for (const gpu::Primitive& p : bounded) (p.info.x == gpu::kShapeTriangle ? anyTriangle : anyBox) = true;
@@ -116,13 +115,17 @@ SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std:
     builds.reserve(3);
     constexpr auto kNoDuplicates = vk::GeometryFlagBitsKHR::eNoDuplicateAnyHitInvocation;
     if (anyTriangle) {
-        std::vector<glm::vec3> v(size_t(count) * 3, glm::vec3(kNaN));
-        for (uint32_t i = 0; i < count; ++i)
-            if (bounded[i].info.x == gpu::kShapeTriangle) {
-                v[3 * i] = glm::vec3(bounded[i].a);
-                v[3 * i + 1] = glm::vec3(bounded[i].b);
-                v[3 * i + 2] = glm::vec3(bounded[i].c);
-            }
+        // Another shape's stand-in is a triangle of zero area at its first
+        // point (a centre or corner), which no ray hits: NaN vertices
+        // (inactive, as the spec allows) made lavapipe (Mesa 25.0) miss
+        // whole structures.
+        std::vector<glm::vec3> v(size_t(count) * 3);
+        for (uint32_t i = 0; i < count; ++i) {
+            bool triangle = bounded[i].info.x == gpu::kShapeTriangle;
+            v[3 * i] = glm::vec3(bounded[i].a);
+            v[3 * i + 1] = triangle ? glm::vec3(bounded[i].b) : v[3 * i];
+            v[3 * i + 2] = triangle ? glm::vec3(bounded[i].c) : v[3 * i];
+        }
         vertices = createDeviceBuffer(ctx, v.data(), v.size() * sizeof(glm::vec3), kBuildInput);
         Build& b = builds.emplace_back();
         b.geometry = vk::AccelerationStructureGeometryKHR{
@@ -139,12 +142,20 @@ SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std:
         result.triangles = prepare(ctx, b, vk::AccelerationStructureTypeKHR::eBottomLevel, count, scratchAlignment);
     }
     if (anyBox) {
-        std::vector<vk::AabbPositionsKHR> a(count, vk::AabbPositionsKHR{kNaN, kNaN, kNaN, kNaN, kNaN, kNaN});
-        for (uint32_t i = 0; i < count; ++i)
-            if (bounded[i].info.x != gpu::kShapeTriangle) {
-                Aabb b = boundsOf(bounded[i]);
-                a[i] = vk::AabbPositionsKHR{b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z};
+        std::vector<vk::AabbPositionsKHR> a(count);
+        for (uint32_t i = 0; i < count; ++i) {
+            if (bounded[i].info.x == gpu::kShapeTriangle) {
+                // NaN (inactive, as the spec allows) made lavapipe (Mesa
+                // 25.0) miss every AABB of the structure; an empty box at
+                // the triangle's first vertex instead, which the shader
+                // rejects should a ray pass exactly through it.
+                glm::vec3 v(bounded[i].a);
+                a[i] = vk::AabbPositionsKHR{v.x, v.y, v.z, v.x, v.y, v.z};
+                continue;
             }
+            Aabb b = boundsOf(bounded[i]);
+            a[i] = vk::AabbPositionsKHR{b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z};
+        }
         boxes = createDeviceBuffer(ctx, a.data(), a.size() * sizeof(vk::AabbPositionsKHR), kBuildInput);
         Build& b = builds.emplace_back();
         b.geometry = vk::AccelerationStructureGeometryKHR{

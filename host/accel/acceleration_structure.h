@@ -17,7 +17,8 @@ struct AccelerationStructure {
 
 // One BLAS of the triangles, one of the AABBs of the other bounded shapes
 // (spheres, cylinders, boxes), each holding every primitive of `bounded` at
-// its own index, those of the other kind inactive (NaN); a TLAS with the one
+// its own index, those of the other kind inactive (NaN vertices) or empty (a
+// point box, which the shader skips); a TLAS with the one
 // or two instances. Built on the device (vkCmdBuildAccelerationStructuresKHR);
 // the build inputs and scratch memory are freed when done.
 struct SceneAccelerationStructures {
