@@ -60,6 +60,11 @@ int main(int argc, char** argv) {
                           "shares the bands of one render among several devices");
     bool noBvh = false;
     renderCmd->add_flag("--no-bvh", noBvh, "test every primitive for every ray (reference for comparisons)");
+    std::string trace = "auto";
+    renderCmd->add_option("--trace", trace,
+                          "how rays find the scene: bvh (our BVH), rayquery (the device's acceleration structures, "
+                          "VK_KHR_ray_query), auto (ray queries on a GPU that has them, else bvh)")
+        ->check(CLI::IsMember({"auto", "bvh", "rayquery"}))->capture_default_str();
     renderCmd->add_flag("--validate", render.validation, "enable the Khronos validation layer; fail on any message");
     renderCmd->add_flag("-q,--quiet", render.quiet, "no progress or summary");
 
@@ -94,6 +99,13 @@ int main(int argc, char** argv) {
         if (renderCmd->parsed()) {
             if (!output.empty()) render.output = output;
             render.settings.useBvh = !noBvh;
+            if (noBvh && trace == "rayquery") {
+                std::cerr << "whitted: --no-bvh and --trace rayquery exclude each other\n";
+                return kExitBadInput;
+            }
+            render.settings.trace = trace == "rayquery" ? TracePath::RayQuery
+                                    : trace == "bvh"    ? TracePath::Bvh
+                                                        : TracePath::Auto;
             render.settings.antiAliasing = aa == "uniform" ? AntiAliasing::Uniform : AntiAliasing::Adaptive;
             if (!region.empty()) {
                 PixelRegion r;

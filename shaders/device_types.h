@@ -31,6 +31,9 @@ WHITTED_CONST uint kBindingCounters = 5;  // RayCounters
 WHITTED_CONST uint kBindingPixelList = 7;   // uint[]: x | y << 16
 WHITTED_CONST uint kBindingGuide = 8;       // uvec4[] over TileParams.guideRect: display colour bits, object id
 WHITTED_CONST uint kBindingSampleStats = 9; // uvec4[2 * entries]: min colour bits + object, max colour bits + mixed
+// The scene's top-level acceleration structure, in the ray-query variant of
+// the shader only (shaders/ray_query.glsl).
+WHITTED_CONST uint kBindingTlas = 10;
 
 // Shape tags in Primitive.info.x.
 WHITTED_CONST uint kShapeSphere = 0;

@@ -130,8 +130,10 @@ uint entryOf(BvhNode node, uint index) {
     return floatBitsToUint(node.hi.w) > 0u ? (kLeafEntry | index) : floatBitsToUint(node.lo.w);
 }
 
-bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
-                   inout vec3 opticalDepth) {
+// The unbounded primitives (planes), one by one; every primitive when
+// there is no BVH. Returns false when a shadow ray is blocked.
+bool traverseList(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
+                  inout vec3 opticalDepth) {
     float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
     bool blocked = false;
     if (kListShapeMask != 0u) {
@@ -142,7 +144,18 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             if (blocked) return false;
         }
     }
+    return true;
+}
+
+#ifdef WHITTED_RAY_QUERY
+#include "ray_query.glsl"
+#else
+bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
+                   inout vec3 opticalDepth) {
+    if (!traverseList(ray, tMax, shadow, hit, transmittance, opticalDepth)) return false;
     if (kShapeMask == 0u || params.accel.x == 0u) return true;
+    float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
+    bool blocked = false;
 
     vec3 invDir = safeInverse(ray.dir);
     uint stack[kBvhStackSize];
@@ -197,6 +210,7 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     }
     return true;
 }
+#endif
 
 // Nearest hit in (0, tMax).
 bool traceClosest(Ray ray, float tMax, out Hit hit) {

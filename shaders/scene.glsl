@@ -3,6 +3,9 @@
 #define WHITTED_SCENE_GLSL
 #extension GL_EXT_buffer_reference : require
 #extension GL_EXT_buffer_reference_uvec2 : require
+#ifdef WHITTED_RAY_QUERY
+#extension GL_EXT_ray_query : require
+#endif
 #include "device_types.h"
 
 layout(std140, set = 0, binding = kBindingParams) uniform FrameParamsBlock { FrameParams params; };
@@ -12,6 +15,10 @@ layout(std430, set = 0, binding = kBindingPixelList) readonly buffer PixelListBl
 layout(std430, set = 0, binding = kBindingGuide) writeonly buffer GuideBlock { uvec4 guide[]; };
 layout(std430, set = 0, binding = kBindingSampleStats) buffer StatsBlock { uvec4 sampleStats[]; };
 layout(push_constant) uniform TileBlock { TileParams tileParams; };
+#ifdef WHITTED_RAY_QUERY
+// The scene's top-level acceleration structure (shaders/ray_query.glsl).
+layout(set = 0, binding = kBindingTlas) uniform accelerationStructureEXT sceneTlas;
+#endif
 
 // The scene's arrays are read through buffer device addresses (Vulkan 1.2
 // bufferDeviceAddress), not descriptors: a storage buffer descriptor spans

@@ -11,6 +11,13 @@ enum class AntiAliasing {
     Adaptive,  // one sample per pixel, more where the image varies, up to samplesPerPixel
 };
 
+// How rays find the scene's bounded primitives (README "Ray queries").
+enum class TracePath {
+    Auto,      // ray queries on a GPU that offers them, our BVH elsewhere
+    Bvh,       // our BVH walked in the shader (any device)
+    RayQuery,  // the device's acceleration structures through VK_KHR_ray_query
+};
+
 // Pixels x0 <= x < x1, y0 <= y < y1 of the full image.
 struct PixelRegion {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
@@ -32,6 +39,7 @@ struct RenderSettings {
     int maxDepth = 6;         // secondary bounces; 0 = local shading only
     bool auxiliary = true;    // also produce the auxiliary (AOV) layers
     bool useBvh = true;       // false: test every primitive (reference for tests)
+    TracePath trace = TracePath::Auto;
     uint32_t seed = 0;        // decorrelates sample patterns between renders
     AntiAliasing antiAliasing = AntiAliasing::Uniform;
     float aaThreshold = kDefaultAaThreshold;

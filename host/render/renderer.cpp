@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "whitted_comp.h"  // kWhittedCompSpv, generated from shaders/whitted.comp
+#include "whitted_comp_ray_query.h"  // kWhittedCompRayQuerySpv: the same with -DWHITTED_RAY_QUERY
 
 #include <algorithm>
 #include <array>
@@ -95,6 +96,25 @@ constexpr DescriptorBinding kBindings[] = {{gpu::kBindingParams, vk::DescriptorT
                                            {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer}};
 constexpr uint32_t kStorageBindings = 5;
 
+// The path a render takes on this device (README "Ray queries"): ray
+// queries where asked for, or by default on a GPU that has them; on a CPU
+// device (lavapipe) our BVH, which measured faster there. Without a BVH
+// (--no-bvh, the brute-force reference) every primitive is tested in the
+// shader either way.
+TracePath resolveTrace(const VulkanContext& ctx, const RenderSettings& settings) {
+    const DeviceInfo& device = ctx.deviceInfo();
+    switch (settings.trace) {
+        case TracePath::Bvh: return TracePath::Bvh;
+        case TracePath::RayQuery:
+            if (!device.rayQuery)
+                throw std::runtime_error("--trace rayquery: device '" + device.name + "' (" + device.driver +
+                                         ") lacks VK_KHR_ray_query or VK_KHR_acceleration_structure; use --trace bvh or auto");
+            return settings.useBvh ? TracePath::RayQuery : TracePath::Bvh;
+        case TracePath::Auto: break;
+    }
+    return device.rayQuery && settings.useBvh && device.type != "cpu" ? TracePath::RayQuery : TracePath::Bvh;
+}
+
 // The device address of a buffer as the (low, high) words FrameParams holds.
 glm::uvec2 addressWords(const Buffer& b) { return {uint32_t(b.address), uint32_t(b.address >> 32)}; }
 
@@ -136,7 +156,8 @@ BufferLimits sceneBufferLimits(const VulkanContext& ctx) {
 }
 
 Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings& settings)
-    : ctx_(ctx), settings_(settings), scene_(packSceneThatFits(ctx, scene, settings)) {
+    : ctx_(ctx), settings_(settings), scene_(packSceneThatFits(ctx, scene, settings)),
+      trace_(resolveTrace(ctx, settings)) {
     if (scene_.width < 1 || scene_.height < 1 || scene_.width > 16384 || scene_.height > 16384)
         throw std::runtime_error("image size " + std::to_string(scene_.width) + "x" + std::to_string(scene_.height) +
                                  " is outside 1..16384");
@@ -183,10 +204,12 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     if (settings.bandBytes != 0)
         readback_ = createBuffer(ctx, outputRow * bandRows_, vk::BufferUsageFlagBits::eTransferDst, kHostVisible);
     vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1},
-                                          {vk::DescriptorType::eStorageBuffer, kStorageBindings}};
+                                          {vk::DescriptorType::eStorageBuffer, kStorageBindings},
+                                          {vk::DescriptorType::eAccelerationStructureKHR, 1}};
+    uint32_t poolSizeCount = trace_ == TracePath::RayQuery ? 3 : 2;
     descriptorPool_ = vk::raii::DescriptorPool(
         ctx.device, vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
-                                                 .maxSets = 1, .poolSizeCount = 2, .pPoolSizes = poolSizes});
+                                                 .maxSets = 1, .poolSizeCount = poolSizeCount, .pPoolSizes = poolSizes});
     buildPipeline();
     uploadScene();
 }
@@ -202,9 +225,14 @@ void Renderer::buildPipeline() {
     vk::SpecializationInfo specialization{.mapEntryCount = 3, .pMapEntries = entries,
                                           .dataSize = sizeof(specialization_), .pData = specialization_.data()};
     std::vector<uint32_t> variant = profilingShaderVariant();
+    bool rayQuery = trace_ == TracePath::RayQuery;
+    std::span<const uint32_t> embedded = rayQuery ? std::span<const uint32_t>(kWhittedCompRayQuerySpv)
+                                                  : std::span<const uint32_t>(kWhittedCompSpv);
+    std::vector<DescriptorBinding> bindings(std::begin(kBindings), std::end(kBindings));
+    if (rayQuery) bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});
     descriptorSet_ = nullptr;  // freed before the layout it was allocated with goes
-    pipeline_ = createComputePipeline(ctx_, variant.empty() ? std::span<const uint32_t>(kWhittedCompSpv) : variant,
-                                      kBindings, sizeof(gpu::TileParams), &specialization);
+    pipeline_ = createComputePipeline(ctx_, variant.empty() ? embedded : variant, bindings, sizeof(gpu::TileParams),
+                                      &specialization);
     vk::DescriptorSetLayout setLayout = *pipeline_.setLayout;
     descriptorSet_ = std::move(vk::raii::DescriptorSets(
         ctx_.device, {.descriptorPool = *descriptorPool_, .descriptorSetCount = 1, .pSetLayouts = &setLayout}).front());
@@ -231,6 +259,15 @@ void Renderer::uploadScene() {
     materials_ = {};
     lights_ = {};
     bvhNodes_ = {};
+    accelerationStructures_ = {};
+    if (trace_ == TracePath::RayQuery) {
+        // The device's structures over the bounded primitives replace the
+        // BVH, whose nodes the shader variant never reads.
+        accelerationStructures_ = buildAccelerationStructures(
+            ctx_, std::span(scene_.primitives).first(scene_.params.accel.y));
+        deviceBytes_ += accelerationStructures_.bytes();
+        std::vector<gpu::BvhNode>().swap(scene_.bvhNodes);
+    }
     // The large arrays live on the device from now on: their host copies go
     // as soon as they are uploaded (a 10M-triangle mesh: 1 GB less host memory).
     primitives_ = upload(scene_.primitives, "primitives");
@@ -257,6 +294,12 @@ void Renderer::uploadScene() {
     for (uint32_t i = 0; i < infos.size(); ++i)
         writes.push_back({.dstSet = *descriptorSet_, .dstBinding = kBindings[i].binding, .descriptorCount = 1,
                           .descriptorType = kBindings[i].type, .pBufferInfo = &infos[i]});
+    vk::AccelerationStructureKHR tlas = *accelerationStructures_.top.handle;
+    vk::WriteDescriptorSetAccelerationStructureKHR tlasInfo{.accelerationStructureCount = 1,
+                                                            .pAccelerationStructures = &tlas};
+    if (trace_ == TracePath::RayQuery)
+        writes.push_back({.pNext = &tlasInfo, .dstSet = *descriptorSet_, .dstBinding = gpu::kBindingTlas,
+                          .descriptorCount = 1, .descriptorType = vk::DescriptorType::eAccelerationStructureKHR});
     ctx_.device.updateDescriptorSets(writes, nullptr);
     uploadSeconds_ = secondsSince(start);
 }
@@ -341,6 +384,8 @@ RenderResult Renderer::readMeans() const {
         }
     }
     result.bvh = scene_.bvhStats;
+    result.trace = trace_;
+    result.accelerationStructureSeconds = accelerationStructures_.buildSeconds;
     return result;
 }
 
@@ -555,6 +600,8 @@ RenderResult Renderer::renderTo(BandSink& sink, const ProgressCallback& progress
     result.pipelineSeconds = pipelineSeconds_;
     result.deviceBytes = deviceBytes_;
     result.bvh = scene_.bvhStats;
+    result.trace = trace_;
+    result.accelerationStructureSeconds = accelerationStructures_.buildSeconds;
     return result;
 }
 

@@ -2,6 +2,7 @@
 // reads the image and its auxiliary layers back.
 #pragma once
 
+#include "accel/acceleration_structure.h"
 #include "device_types.h"
 #include "render/adaptive.h"
 #include "render/band_sink.h"
@@ -40,6 +41,8 @@ struct RenderResult {
     int bands = 0;              // bands of rows the region was rendered in
     RayStats rays;
     BvhStats bvh;
+    TracePath trace = TracePath::Bvh;  // the path taken (never Auto)
+    double accelerationStructureSeconds = 0;  // ray queries: building the device's structures (within upload)
     double uploadSeconds = 0;  // buffer uploads (the BVH build is bvh.buildSeconds)
     double pipelineSeconds = 0;  // shader compilation by the driver
     double renderSeconds = 0;
@@ -97,6 +100,7 @@ public:
     int height() const { return scene_.height; }
     uint32_t layerCount() const { return layerCount_; }
     const RenderSettings& settings() const { return settings_; }
+    TracePath trace() const { return trace_; }  // Bvh or RayQuery
 
 private:
     class Batch;
@@ -110,6 +114,8 @@ private:
     VulkanContext& ctx_;
     RenderSettings settings_;
     GpuScene scene_;  // primitives and bvhNodes emptied once uploaded
+    TracePath trace_ = TracePath::Bvh;  // settings_.trace resolved for the device
+    SceneAccelerationStructures accelerationStructures_;  // ray queries only
     ComputePipeline pipeline_;
     std::array<uint32_t, 3> specialization_{};  // what pipeline_ was specialised for
     uint32_t layerCount_;

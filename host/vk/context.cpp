@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <iterator>
 #include <stdexcept>
 
 namespace whitted {
@@ -38,6 +39,26 @@ std::optional<uint32_t> findComputeQueueFamily(const vk::raii::PhysicalDevice& d
     return std::nullopt;
 }
 
+// The extensions tracing through ray queries needs (VK_KHR_acceleration_structure
+// requires VK_KHR_deferred_host_operations; its other dependencies and
+// VK_KHR_ray_query's are core in Vulkan 1.2).
+constexpr const char* kRayQueryExtensions[] = {VK_KHR_ACCELERATION_STRUCTURE_EXTENSION_NAME,
+                                               VK_KHR_RAY_QUERY_EXTENSION_NAME,
+                                               VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
+
+bool hasRayQuery(const vk::raii::PhysicalDevice& device) {
+    auto extensions = device.enumerateDeviceExtensionProperties();
+    for (const char* wanted : kRayQueryExtensions)
+        if (std::none_of(extensions.begin(), extensions.end(), [&](const vk::ExtensionProperties& e) {
+                return std::string_view(e.extensionName.data()) == wanted;
+            }))
+            return false;
+    auto features = device.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceAccelerationStructureFeaturesKHR,
+                                        vk::PhysicalDeviceRayQueryFeaturesKHR>();
+    return features.get<vk::PhysicalDeviceAccelerationStructureFeaturesKHR>().accelerationStructure &&
+           features.get<vk::PhysicalDeviceRayQueryFeaturesKHR>().rayQuery;
+}
+
 DeviceInfo describe(const vk::raii::PhysicalDevice& device, uint32_t index) {
     auto props = device.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties>();
     const auto& p = props.get<vk::PhysicalDeviceProperties2>().properties;
@@ -59,6 +80,7 @@ DeviceInfo describe(const vk::raii::PhysicalDevice& device, uint32_t index) {
                   .bufferDeviceAddress)
         info.unsuitable = "lacks bufferDeviceAddress (Vulkan 1.2 feature)";
     info.suitable = info.unsuitable.empty();
+    info.rayQuery = info.suitable && hasRayQuery(device);
     return info;
 }
 
@@ -184,7 +206,14 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     float priority = 1.0f;
     vk::DeviceQueueCreateInfo queueInfo{.queueFamilyIndex = queueFamily, .queueCount = 1, .pQueuePriorities = &priority};
     vk::PhysicalDeviceVulkan12Features features12{.bufferDeviceAddress = VK_TRUE};  // scene arrays (shaders/scene.glsl)
-    device = vk::raii::Device(physicalDevice, vk::DeviceCreateInfo{.pNext = &features12,
+    vk::PhysicalDeviceRayQueryFeaturesKHR rayQueryFeatures{.pNext = &features12, .rayQuery = VK_TRUE};
+    vk::PhysicalDeviceAccelerationStructureFeaturesKHR accelerationFeatures{.pNext = &rayQueryFeatures,
+                                                                            .accelerationStructure = VK_TRUE};
+    if (info_.rayQuery)
+        deviceExtensions.insert(deviceExtensions.end(), std::begin(kRayQueryExtensions), std::end(kRayQueryExtensions));
+    device = vk::raii::Device(physicalDevice, vk::DeviceCreateInfo{.pNext = info_.rayQuery
+                                                                                ? static_cast<void*>(&accelerationFeatures)
+                                                                                : static_cast<void*>(&features12),
                                                                    .queueCreateInfoCount = 1,
                                                                    .pQueueCreateInfos = &queueInfo,
                                                                    .enabledExtensionCount = uint32_t(deviceExtensions.size()),

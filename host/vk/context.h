@@ -24,6 +24,9 @@ struct DeviceInfo {
     uint32_t apiVersion = 0;
     bool suitable = false;  // Vulkan 1.2, a compute queue and buffer device addresses
     std::string unsuitable;  // why not, when not suitable
+    // VK_KHR_ray_query and VK_KHR_acceleration_structure with their features
+    // (enabled on the device when present: README "Ray queries").
+    bool rayQuery = false;
 };
 
 struct ContextOptions {

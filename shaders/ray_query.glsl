@@ -1,0 +1,105 @@
+// Traversal through the device's acceleration structures (VK_KHR_ray_query),
+// included by intersect.glsl in the shader variant compiled with
+// -DWHITTED_RAY_QUERY in place of the BVH walk. The renderer builds
+// (host/accel/acceleration_structure.cpp) a TLAS over at most two BLASes:
+// the bounded triangles as native triangles and the other bounded shapes
+// (spheres, cylinders, boxes) as AABBs. Both BLASes list every bounded
+// primitive in the order of the Primitive array, those of the other kind
+// inactive (NaN vertices) or empty (a point box for a triangle: NaN boxes
+// made lavapipe miss them all), so a primitive index from the query IS the
+// index into primitives[]; shading is unchanged. Planes stay outside, one
+// by one.
+//
+// Closest hits: triangles are opaque geometry, committed by the driver
+// (its own watertight test; t may differ from ours in the last bits);
+// an AABB candidate is tested with the shape's own function and committed
+// with rayQueryGenerateIntersectionEXT when nearer than the committed hit.
+// Shadow rays with transparency: every candidate is looked at (ray flag
+// NoOpaque, no commits) and filters the light once per crossing; the BLASes
+// are built with NO_DUPLICATE_ANY_HIT, so each primitive comes once; the
+// first opaque crossing ends the query. Without transparency a shadow ray
+// stops at the first hit of any kind.
+#ifndef WHITTED_RAY_QUERY_GLSL
+#define WHITTED_RAY_QUERY_GLSL
+#include "scene.glsl"  // sceneTlas
+
+// Filters a shadow ray by one crossing of primitive i at distance t with
+// geometric normal n, as testPrimitive (intersect.glsl) does: the pigment at
+// the crossing, and the signed optical depth of absorbing objects (leaving
+// adds sigma t, entering subtracts it). False when the surface is opaque.
+bool filterCrossing(uint i, Ray ray, float t, vec3 n, inout vec3 transmittance, inout vec3 opticalDepth) {
+    uint k = primitives[i].info.y;
+    float kt = materials[k].coefs1.y;
+    vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz,
+                      ray.origin + t * ray.dir);
+    transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
+    opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
+    return kt > 0.0;
+}
+
+bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
+                   inout vec3 opticalDepth) {
+    if (!traverseList(ray, tMax, shadow, hit, transmittance, opticalDepth)) return false;
+    if (kShapeMask == 0u) return true;
+    // The shapes in the AABB BLAS.
+    const uint boxMask = kShapeMask & ~(1u << kShapeTriangle);
+    const bool filtering = shadow && kSceneHasTransparency;
+    const bool mixed = boxMask != 0u && (kShapeMask & (1u << kShapeTriangle)) != 0u;
+    uint flags = filtering ? gl_RayFlagsNoOpaqueEXT : (shadow ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT);
+    rayQueryEXT query;
+    rayQueryInitializeEXT(query, sceneTlas, flags, 0xffu, ray.origin, 0.0, ray.dir, shadow ? tMax : hit.t);
+    vec3 boxNormal = vec3(0.0);  // normal of the last AABB hit committed
+    bool blocked = false;
+    while (rayQueryProceedEXT(query)) {
+        uint i = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, false));
+        bool box = rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionAABBEXT;
+        // A triangle's stand-in in the AABB structure (an empty box at a
+        // vertex, host/accel/acceleration_structure.cpp) is no candidate.
+        if (mixed && box && primitives[i].info.x == kShapeTriangle) continue;
+        vec3 n;
+        if (filtering) {
+            if (box && boxMask != 0u) {
+                // A convex shape is crossed at most twice: in, then out.
+                float t = tMax;
+                if (intersectPrimitiveAt(i, boxMask, ray, 0.0, t, n)) {
+                    float tOut = tMax;
+                    vec3 nOut;
+                    blocked = !filterCrossing(i, ray, t, n, transmittance, opticalDepth) ||
+                              (intersectPrimitiveAt(i, boxMask, ray, t, tOut, nOut) &&
+                               !filterCrossing(i, ray, tOut, nOut, transmittance, opticalDepth));
+                }
+            } else if (!box) {
+                // The winding's normal, as intersectTriangle gives it.
+                vec3 a = primitives[i].a.xyz;
+                n = cross(primitives[i].b.xyz - a, primitives[i].c.xyz - a);
+                blocked = !filterCrossing(i, ray, rayQueryGetIntersectionTEXT(query, false), n, transmittance,
+                                          opticalDepth);
+            }
+            if (blocked) rayQueryTerminateEXT(query);
+        } else if (box && boxMask != 0u) {
+            float tBest = rayQueryGetIntersectionTypeEXT(query, true) != gl_RayQueryCommittedIntersectionNoneEXT
+                              ? rayQueryGetIntersectionTEXT(query, true)
+                              : (shadow ? tMax : hit.t);
+            if (intersectPrimitiveAt(i, boxMask, ray, 0.0, tBest, n)) {
+                rayQueryGenerateIntersectionEXT(query, tBest);
+                boxNormal = n;
+            }
+        }
+    }
+    if (filtering) return !blocked;
+    uint committed = rayQueryGetIntersectionTypeEXT(query, true);
+    if (committed == gl_RayQueryCommittedIntersectionNoneEXT) return true;
+    if (shadow) return false;
+    uint i = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, true));
+    hit.t = rayQueryGetIntersectionTEXT(query, true);
+    hit.primitive = i;
+    if (committed == gl_RayQueryCommittedIntersectionTriangleEXT) {
+        vec3 v0 = primitives[i].a.xyz, v1 = primitives[i].b.xyz, v2 = primitives[i].c.xyz;
+        hit.normal = normalize(cross(v1 - v0, v2 - v0));
+    } else {
+        hit.normal = boxNormal;
+    }
+    return true;
+}
+
+#endif
