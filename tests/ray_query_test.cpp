@@ -53,31 +53,7 @@ TEST_P(RayQueryMatchesBvh, SameImage) {
     fs::path bvhPath = outputDir() / (name + ".bvh.png"), rqPath = outputDir() / (name + ".rayquery.png");
     writeRenderImages(bvh, bvhPath, {}, Tonemap::Clamp);
     writeRenderImages(rq, rqPath, {}, Tonemap::Clamp);
-    std::vector<float> a, b;
-    int w1, h1, c1, w2, h2, c2;
-    readImageInto(bvhPath, w1, h1, c1, a);
-    readImageInto(rqPath, w2, h2, c2, b);
-    ASSERT_EQ(a.size(), b.size());
-    double sum = 0;
-    size_t outliers = 0;
-    std::vector<float> diff(a.size());
-    for (size_t p = 0; p < size_t(w1) * h1; ++p) {
-        float worst = 0;
-        for (int c = 0; c < c1; ++c) {
-            size_t i = p * c1 + c;
-            float d = std::abs(a[i] - b[i]) * 255.0f;
-            sum += d;
-            worst = std::max(worst, d);
-            diff[i] = std::min(1.0f, d / 32.0f);
-        }
-        if (worst > 16.0f) ++outliers;
-    }
-    double mean = sum / double(a.size());
-    double outlierFraction = double(outliers) / double(size_t(w1) * h1);
-    if (mean > 0.5 || outlierFraction > 0.002)
-        writeImage(outputDir() / (name + ".rayquery.diff.png"), w1, h1, c1, diff, PixelEncoding::Linear8);
-    EXPECT_LE(mean, 0.5) << name << ": mean difference in 8-bit levels; see " << outputDir();
-    EXPECT_LE(outlierFraction, 0.002) << name << ": fraction of pixels off by > 16 levels";
+    expectGoldenMatch(rqPath, bvhPath, outputDir() / (name + ".rayquery.diff.png"), name + " (ray query against BVH)");
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, RayQueryMatchesBvh, ::testing::ValuesIn(sceneNames()),

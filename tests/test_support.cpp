@@ -1,6 +1,10 @@
 #include "test_support.h"
 
+#include "io/image_io.h"
 #include "scene/scene_loader.h"
+
+#include <algorithm>
+#include <cmath>
 
 #include <cstdio>
 #include <cstdlib>
@@ -49,6 +53,41 @@ std::filesystem::path outputDir() {
     std::filesystem::path dir = WHITTED_TEST_OUTPUT_DIR;
     std::filesystem::create_directories(dir);
     return dir;
+}
+
+void expectGoldenMatch(const std::filesystem::path& got, const std::filesystem::path& want,
+                       const std::filesystem::path& diffPath, const std::string& what) {
+    constexpr double kMaxMeanLevels = 0.5;
+    constexpr double kMaxOutlierFraction = 0.002;
+    constexpr float kOutlierLevels = 16;
+    std::vector<float> a, b;
+    int w1, h1, c1, w2, h2, c2;
+    readImageInto(got, w1, h1, c1, a);
+    readImageInto(want, w2, h2, c2, b);
+    ASSERT_EQ(w1, w2) << what;
+    ASSERT_EQ(h1, h2) << what;
+    ASSERT_EQ(c1, c2) << what;
+
+    double sum = 0;
+    size_t outliers = 0;
+    std::vector<float> diff(a.size());
+    for (size_t p = 0; p < size_t(w1) * h1; ++p) {
+        float worst = 0;
+        for (int c = 0; c < c1; ++c) {
+            size_t i = p * c1 + c;
+            float d = std::abs(a[i] - b[i]) * 255.0f;
+            sum += d;
+            worst = std::max(worst, d);
+            diff[i] = std::min(1.0f, d / 32.0f);
+        }
+        if (worst > kOutlierLevels) ++outliers;
+    }
+    double mean = sum / double(a.size());
+    double outlierFraction = double(outliers) / double(size_t(w1) * h1);
+    if (mean > kMaxMeanLevels || outlierFraction > kMaxOutlierFraction)
+        writeImage(diffPath, w1, h1, c1, diff, PixelEncoding::Linear8);
+    EXPECT_LE(mean, kMaxMeanLevels) << what << ": mean difference in 8-bit levels; see " << diffPath;
+    EXPECT_LE(outlierFraction, kMaxOutlierFraction) << what << ": fraction of pixels off by > " << kOutlierLevels;
 }
 
 }  // namespace whitted::test

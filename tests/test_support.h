@@ -31,6 +31,14 @@ CommandRun runCommand(const std::string& command, const std::filesystem::path& c
 std::filesystem::path sourceDir();
 std::filesystem::path outputDir();  // created on demand, for diff images
 
+// The golden-image metric between two 8-bit image files of the same size:
+// mean absolute difference in 8-bit levels over all channels, and the
+// fraction of pixels with some channel off by more than 16 levels. When
+// either exceeds its bound (0.5 levels, 0.2%) a difference image is written
+// to `diffPath` and the test fails with `what` in its messages.
+void expectGoldenMatch(const std::filesystem::path& got, const std::filesystem::path& want,
+                       const std::filesystem::path& diffPath, const std::string& what);
+
 // Pixel access into an RGBA layer.
 inline glm::vec4 pixel(const RenderResult& r, uint32_t layer, int x, int y) {
     const float* p = &r.layers[layer][(size_t(y) * r.width + x) * 4];

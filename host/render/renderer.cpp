@@ -404,9 +404,7 @@ public:
     void add(const gpu::TileParams& params, uint32_t groupsX, uint32_t groupsY, uint64_t cameraSamples) {
         vk::raii::CommandBuffer& cmd = commandBuffers_.front();
         if (recorded_ == 0) {
-            *static_cast<gpu::RayCounters*>(renderer_.counters_.mapped) = {};
-            cmd.reset();
-            cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
+            begin();
             cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *renderer_.pipeline_.pipeline);
             cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *renderer_.pipeline_.layout, 0,
                                    *renderer_.descriptorSet_, nullptr);
@@ -421,11 +419,7 @@ public:
     void flush(vk::DeviceSize copyBand = 0) {
         vk::raii::CommandBuffer& cmd = commandBuffers_.front();
         if (recorded_ == 0 && copyBand == 0) return;
-        if (recorded_ == 0) {
-            *static_cast<gpu::RayCounters*>(renderer_.counters_.mapped) = {};
-            cmd.reset();
-            cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
-        }
+        if (recorded_ == 0) begin();
         if (copyBand > 0) {
             vk::MemoryBarrier toCopy{.srcAccessMask = vk::AccessFlagBits::eShaderWrite,
                                      .dstAccessMask = vk::AccessFlagBits::eTransferRead};
@@ -456,6 +450,13 @@ public:
     }
 
 private:
+    // A fresh command buffer, and ray counters zeroed for it.
+    void begin() {
+        *static_cast<gpu::RayCounters*>(renderer_.counters_.mapped) = {};
+        commandBuffers_.front().reset();
+        commandBuffers_.front().begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
+    }
+
     const Renderer& renderer_;
     RenderResult& result_;
     vk::raii::CommandBuffers commandBuffers_;
