@@ -94,7 +94,8 @@ constexpr DescriptorBinding kBindings[] = {{gpu::kBindingParams, vk::DescriptorT
                                            {gpu::kBindingPixelList, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingGuide, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer}};
-constexpr uint32_t kStorageBindings = 5;
+constexpr uint32_t kStorageBindings = uint32_t(std::ranges::count(
+    kBindings, vk::DescriptorType::eStorageBuffer, &DescriptorBinding::type));
 
 // The path a render takes on this device (README "Ray queries"): ray
 // queries where asked for, or by default on a GPU that has them; on a CPU
@@ -197,10 +198,10 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     params_ = createBuffer(ctx, sizeof(gpu::FrameParams), vk::BufferUsageFlagBits::eUniformBuffer, kHostVisible);
     output_ = createDeviceBuffer(ctx, nullptr, outputRow * bandRows_, kStorage | vk::BufferUsageFlagBits::eTransferSrc);
     counters_ = createBuffer(ctx, sizeof(gpu::RayCounters), kStorage, kHostVisible);
-    size_t guidePixels = adaptive ? bandPixels : 1;
-    pixelList_ = createBuffer(ctx, (adaptive ? bandPixels : 1) * sizeof(uint32_t), kStorage, kHostVisible);
-    sampleStats_ = createBuffer(ctx, (adaptive ? bandPixels : 1) * 2 * sizeof(glm::uvec4), kStorage, kHostVisible);
-    guide_ = createBuffer(ctx, guidePixels * sizeof(glm::uvec4), kStorage, kHostVisible);
+    size_t adaptivePixels = adaptive ? bandPixels : 1;  // a buffer must not be empty
+    pixelList_ = createBuffer(ctx, adaptivePixels * sizeof(uint32_t), kStorage, kHostVisible);
+    sampleStats_ = createBuffer(ctx, adaptivePixels * 2 * sizeof(glm::uvec4), kStorage, kHostVisible);
+    guide_ = createBuffer(ctx, adaptivePixels * sizeof(glm::uvec4), kStorage, kHostVisible);
     if (settings.bandBytes != 0)
         readback_ = createBuffer(ctx, outputRow * bandRows_, vk::BufferUsageFlagBits::eTransferDst, kHostVisible);
     vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1},
