@@ -34,6 +34,9 @@ WHITTED_CONST uint kBindingSampleStats = 9; // uvec4[2 * entries]: min colour bi
 // The scene's top-level acceleration structure, in the ray-query variant of
 // the shader only (shaders/ray_query.glsl).
 WHITTED_CONST uint kBindingTlas = 10;
+// Image textures (diffuse and normal maps): an array of combined image
+// samplers indexed by Material texture slots (shaders/texture.glsl).
+WHITTED_CONST uint kBindingTextures = 11;
 
 // Shape tags in Primitive.info.x.
 WHITTED_CONST uint kShapeSphere = 0;
@@ -41,6 +44,10 @@ WHITTED_CONST uint kShapeCylinder = 1;
 WHITTED_CONST uint kShapePlane = 2;
 WHITTED_CONST uint kShapeTriangle = 3;
 WHITTED_CONST uint kShapeBox = 4;
+// A CSG object (shaders/shapes/csg.glsl): its tree lives in the CsgNode
+// array; its leaves are ordinary primitives kept after the BVH's and the
+// unbounded ones, so a hit reports the leaf primitive that was struck.
+WHITTED_CONST uint kShapeCsg = 5;
 
 // Primitive.info.z of a triangle: kTriangleSmooth when a, b, c .w hold its
 // vertex normals, octahedral-encoded (host/shapes/triangle.cpp), each
@@ -133,6 +140,7 @@ struct FrameParams {
     uvec4 accel;        // BVH node count, first and count of the primitives outside it (planes), 0
     uvec4 addresses0;   // device addresses (low, high words) of Primitive[] and BvhNode[]
     uvec4 addresses1;   // of Material[] and Light[]
+    uvec4 addresses2;   // of CsgNode[] (CSG trees) and the per-primitive surface attributes (UVs, tangents)
 };
 
 // TileParams.samples.w bit flags.

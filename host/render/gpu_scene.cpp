@@ -15,8 +15,8 @@ static_assert(sizeof(gpu::Material) == 112 && offsetof(gpu::Material, coefs1) ==
               offsetof(gpu::Material, checker) == 64 && offsetof(gpu::Material, checkerOrigin) == 80 &&
               offsetof(gpu::Material, absorption) == 96);
 static_assert(sizeof(gpu::Light) == 32);
-static_assert(sizeof(gpu::FrameParams) == 160 && offsetof(gpu::FrameParams, accel) == 112 &&
-              offsetof(gpu::FrameParams, addresses1) == 144);
+static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, accel) == 112 &&
+              offsetof(gpu::FrameParams, addresses1) == 144 && offsetof(gpu::FrameParams, addresses2) == 160);
 static_assert(sizeof(gpu::BvhNode) == 32);
 static_assert(sizeof(gpu::TileParams) == 64 && offsetof(gpu::TileParams, guideRect) == 48);
 static_assert(sizeof(gpu::RayCounters) == 16);
