@@ -49,6 +49,24 @@ WHITTED_CONST uint kShapeBox = 4;
 // unbounded ones, so a hit reports the leaf primitive that was struck.
 WHITTED_CONST uint kShapeCsg = 5;
 
+// CSG limits (README "CSG"), set by the shader's fixed-size state in
+// intersectCsg (shaders/shapes/csg.glsl): each leaf's span along the ray is
+// held in arrays of kCsgMaxLeaves entries and the set of leaves a point is
+// inside in one 32-bit mask; the tree is evaluated as a postfix program on a
+// stack of one bit per entry, which a tree of nesting depth d (a csg whose
+// children are all leaves has depth 1) fills to d + 1 <= kCsgStackSize bits.
+// The loader refuses larger trees.
+WHITTED_CONST uint kCsgMaxLeaves = 16;  // leaf shapes per top-level csg object
+WHITTED_CONST uint kCsgStackSize = 9;
+WHITTED_CONST uint kCsgMaxDepth = kCsgStackSize - 1;  // csg objects nested in each other
+
+// CsgNode.info.x: a leaf (info.y = its slot among the object's leaves) or a
+// boolean operation folding the two values on top of the stack into one.
+WHITTED_CONST uint kCsgLeaf = 0;
+WHITTED_CONST uint kCsgUnion = 1;
+WHITTED_CONST uint kCsgIntersection = 2;
+WHITTED_CONST uint kCsgDifference = 3;  // the lower value minus the top one
+
 // Primitive.info.z of a triangle: kTriangleSmooth when a, b, c .w hold its
 // vertex normals, octahedral-encoded (host/shapes/triangle.cpp), each
 // coordinate in kOctahedralBits bits.
@@ -94,6 +112,9 @@ WHITTED_CONST uint kOptionWriteAovs = 1u;
 //   plane:    a = (point, 0), b = (unit normal, 0)
 //   triangle: a, b, c = vertices (xyz); w = vertex normals when smooth
 //   box:      a = min corner, b = max corner
+//   csg:      a.xyz, b.xyz = bounds; a.w, b.w = uint bits of the first leaf
+//             primitive and the leaf count; info.z, info.w = first CsgNode
+//             and node count (host/shapes/csg.cpp)
 // info = (shape tag, material index, kTriangleSmooth or 0, 0). Primitives in the BVH come first,
 // in leaf order; the unbounded ones (planes) follow and are tested one by one.
 struct Primitive {
@@ -126,6 +147,15 @@ struct Light {
 struct BvhNode {
     vec4 lo;
     vec4 hi;
+};
+
+// One instruction of a csg object's postfix program (host/shapes/csg.cpp):
+// info = (kCsgLeaf, leaf slot, 0, 0) pushes whether the point is inside that
+// leaf; an operation pops two values and pushes their combination. An n-ary
+// node of the scene file becomes its first child, then each further child
+// followed by the operation (a left fold).
+struct CsgNode {
+    uvec4 info;
 };
 
 // Per-render constants (uniform buffer).

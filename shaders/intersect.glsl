@@ -11,6 +11,7 @@
 #include "scene.glsl"
 #include "material.glsl"
 #include "shapes/primitive.glsl"
+#include "shapes/csg.glsl"
 
 // Entry distance of the ray into a node's box within [0, tMax], or -1.
 float intersectNodeBounds(BvhNode node, vec3 origin, vec3 invDir, float tMax) {
@@ -36,11 +37,11 @@ layout(constant_id = kSpecTransparency) const bool kSceneHasTransparency = true;
 // driver such as lavapipe a branch is not skipped, its lanes are masked off,
 // so every shape function in a dispatch costs on every primitive test
 // unless the shapes the scene lacks are compiled out.
-layout(constant_id = kSpecShapeMask) const uint kShapeMask = 0x1fu;
+layout(constant_id = kSpecShapeMask) const uint kShapeMask = 0x3fu;
 
 // The same for the unbounded primitives (planes; every primitive when there
 // is no BVH).
-layout(constant_id = kSpecListShapeMask) const uint kListShapeMask = 0x1fu;
+layout(constant_id = kSpecListShapeMask) const uint kListShapeMask = 0x3fu;
 
 // intersectPrimitive on primitives[i] for a scene whose shapes are `mask`,
 // loading only the words the shape uses (lavapipe gathers each loaded word
@@ -68,6 +69,41 @@ bool intersectPrimitiveAt(uint i, const uint mask, Ray ray, float tMin, inout fl
     return false;
 }
 
+// A csg object (shaders/shapes/csg.glsl) for either query. A closest hit
+// reports the leaf primitive struck. A csg object is not convex, so a
+// shadow ray walks every crossing of its surface in (0, tMax) and filters
+// the light at each by the material of the leaf struck, as testPrimitive
+// does (kt, pigment, signed optical depth by the object's outward normal);
+// an opaque crossing blocks.
+void testCsg(uint i, Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
+             inout vec3 opticalDepth, inout bool blocked) {
+    vec3 n;
+    uint leaf;
+    if (!shadow) {
+        if (intersectCsg(i, ray, 0.0, hit.t, n, leaf)) {
+            hit.normal = n;
+            hit.primitive = leaf;
+        }
+        return;
+    }
+    float tFrom = 0.0;
+    for (uint crossing = 0u; crossing < 2u * kCsgMaxLeaves; ++crossing) {
+        float t = tMax;
+        if (!intersectCsg(i, ray, tFrom, t, n, leaf)) return;
+        uint k = primitives[leaf].info.y;
+        float kt = materials[k].coefs1.y;
+        if (!kSceneHasTransparency || kt <= 0.0) {
+            blocked = true;
+            return;
+        }
+        vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz,
+                          ray.origin + t * ray.dir);
+        transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
+        opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
+        tFrom = t;
+    }
+}
+
 // Tests primitive i for either query. Closest hit (shadow = false): updates
 // hit. Shadow ray: filters transmittance by a crossing of a transparent
 // surface, sets blocked at an opaque one, and adds the crossing's share of
@@ -76,6 +112,10 @@ bool intersectPrimitiveAt(uint i, const uint mask, Ray ray, float tMin, inout fl
 // (tFrom). Returns whether the next primitive is due.
 bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shadow, inout Hit hit,
                    inout vec3 transmittance, inout vec3 opticalDepth, inout float tFrom, inout bool blocked) {
+    if ((mask & (1u << kShapeCsg)) != 0u && (bitCount(mask) == 1 || primitives[i].info.x == kShapeCsg)) {
+        testCsg(i, ray, tMax, shadow, hit, transmittance, opticalDepth, blocked);
+        return true;
+    }
     vec3 n;
     if (!shadow) {
         if (intersectPrimitiveAt(i, mask, ray, 0.0, hit.t, n)) {

@@ -49,6 +49,7 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     rayQueryEXT query;
     rayQueryInitializeEXT(query, sceneTlas, flags, 0xffu, ray.origin, 0.0, ray.dir, shadow ? tMax : hit.t);
     vec3 boxNormal = vec3(0.0);  // normal of the last AABB hit committed
+    uint boxPrimitive = 0u;      // and its primitive: a csg object's leaf struck
     bool blocked = false;
     while (rayQueryProceedEXT(query)) {
         uint i = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, false));
@@ -57,8 +58,13 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
         // vertex, host/accel/acceleration_structure.cpp) is no candidate.
         if (mixed && box && primitives[i].info.x == kShapeTriangle) continue;
         vec3 n;
+        // A csg object's AABB: intersectCsg (shaders/shapes/csg.glsl) and,
+        // for shadow rays, every crossing of its surface (testCsg).
+        bool csg = box && (kShapeMask & (1u << kShapeCsg)) != 0u && primitives[i].info.x == kShapeCsg;
         if (filtering) {
-            if (box && boxMask != 0u) {
+            if (csg) {
+                testCsg(i, ray, tMax, true, hit, transmittance, opticalDepth, blocked);
+            } else if (box && boxMask != 0u) {
                 // A convex shape is crossed at most twice: in, then out.
                 float t = tMax;
                 if (intersectPrimitiveAt(i, boxMask, ray, 0.0, t, n)) {
@@ -76,6 +82,16 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                                           opticalDepth);
             }
             if (blocked) rayQueryTerminateEXT(query);
+        } else if (csg) {
+            float tBest = rayQueryGetIntersectionTypeEXT(query, true) != gl_RayQueryCommittedIntersectionNoneEXT
+                              ? rayQueryGetIntersectionTEXT(query, true)
+                              : (shadow ? tMax : hit.t);
+            uint leaf;
+            if (intersectCsg(i, ray, 0.0, tBest, n, leaf)) {
+                rayQueryGenerateIntersectionEXT(query, tBest);
+                boxNormal = n;
+                boxPrimitive = leaf;
+            }
         } else if (box && boxMask != 0u) {
             float tBest = rayQueryGetIntersectionTypeEXT(query, true) != gl_RayQueryCommittedIntersectionNoneEXT
                               ? rayQueryGetIntersectionTEXT(query, true)
@@ -83,6 +99,7 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             if (intersectPrimitiveAt(i, boxMask, ray, 0.0, tBest, n)) {
                 rayQueryGenerateIntersectionEXT(query, tBest);
                 boxNormal = n;
+                boxPrimitive = i;
             }
         }
     }
@@ -98,6 +115,7 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
         hit.normal = normalize(cross(v1 - v0, v2 - v0));
     } else {
         hit.normal = boxNormal;
+        hit.primitive = boxPrimitive;
     }
     return true;
 }

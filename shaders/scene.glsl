@@ -37,5 +37,8 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Bv
 #define bvhNodes (BvhNodeArray(params.addresses0.zw).v)
 #define materials (MaterialArray(params.addresses1.xy).v)
 #define lights (LightArray(params.addresses1.zw).v)
+// The csg objects' programs (shaders/shapes/csg.glsl).
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer CsgNodeArray { CsgNode v[]; };
+#define csgNodes (CsgNodeArray(params.addresses2.xy).v)
 
 #endif

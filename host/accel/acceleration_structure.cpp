@@ -38,6 +38,7 @@ Aabb boundsOf(const gpu::Primitive& p) {
             break;
         }
         case gpu::kShapeBox:
+        case gpu::kShapeCsg:  // its bounds (host/shapes/csg.cpp)
             b.extend(a);
             b.extend(glm::vec3(p.b));
             break;

@@ -83,9 +83,17 @@ std::string triangleBody(const Triangle& t) {
 // A triangle without area renders nothing here; POV-Ray would warn about it.
 bool degenerate(const Triangle& t) { return glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)) == 0.0; }
 
+bool anyTransparent(const Csg& csg) {
+    return std::any_of(csg.children.begin(), csg.children.end(), [](const CsgChild& c) {
+        const Csg* nested = std::get_if<Csg>(&c.shape);
+        return c.material.transmission > 0.0 || (nested && anyTransparent(*nested));
+    });
+}
+
 struct ShapeWriter {
     std::ostringstream& s;
     const std::string& material;
+    bool shadows = true;
 
     void operator()(const Sphere& sp) const {
         s << "sphere { " << vec(sp.center) << ", " << num(sp.radius) << "\n" << material << "}\n";
@@ -105,6 +113,23 @@ struct ShapeWriter {
     }
     void operator()(const Box& b) const {
         s << "box { " << vec(b.min) << ", " << vec(b.max) << "\n" << material << "}\n";
+    }
+    // POV-Ray's CSG has our operations (difference: the first child minus
+    // the others) and our material rule: the csg object's texture goes to
+    // the children without one of their own. Its union keeps the inner
+    // surfaces, which only transparency shows: then merge, which drops them
+    // as ours does.
+    void operator()(const Csg& csg) const {
+        const char* op = csg.operation == Csg::Operation::Intersection ? "intersection"
+                         : csg.operation == Csg::Operation::Difference ? "difference"
+                         : anyTransparent(csg)                         ? "merge"
+                                                                       : "union";
+        s << op << " {\n";
+        for (const CsgChild& child : csg.children) {
+            std::string own = child.ownMaterial ? texture(child.material, shadows) : std::string();
+            std::visit(ShapeWriter{s, own, shadows}, child.shape);
+        }
+        s << material << "}\n";
     }
     void operator()(const Mesh& m) const {
         // POV-Ray refuses an empty mesh.
@@ -181,7 +206,7 @@ std::string exportPovray(const Scene& scene, const PovrayExportOptions& options)
     for (const Object& object : scene.objects) {
         if (object.sourceLine > 0) s << "// " << where(scene, object) << "\n";
         std::string material = texture(object.material, options.shadows);
-        std::visit(ShapeWriter{s, material}, object.shape);
+        std::visit(ShapeWriter{s, material, options.shadows}, object.shape);
     }
     return s.str();
 }

@@ -18,6 +18,7 @@ static_assert(sizeof(gpu::Light) == 32);
 static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, accel) == 112 &&
               offsetof(gpu::FrameParams, addresses1) == 144 && offsetof(gpu::FrameParams, addresses2) == 160);
 static_assert(sizeof(gpu::BvhNode) == 32);
+static_assert(sizeof(gpu::CsgNode) == 16);
 static_assert(sizeof(gpu::TileParams) == 64 && offsetof(gpu::TileParams, guideRect) == 48);
 static_assert(sizeof(gpu::RayCounters) == 16);
 
@@ -81,11 +82,22 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     primitives.reserve(count);
     bounds.reserve(count);
     g.materials.reserve(scene.objects.size());
+    // Csg objects: their leaves and programs go into csg, the materials of
+    // children with their own after the objects' (an object's material
+    // index stays its index).
+    CsgArrays csg;
+    csg.firstMaterial = uint32_t(scene.objects.size());
     for (const Object& object : scene.objects) {
         uint32_t material = uint32_t(g.materials.size());
         g.materials.push_back(packMaterial(object.material));
-        appendPrimitives(object.shape, material, primitives, bounds);
+        if (const Csg* c = std::get_if<Csg>(&object.shape)) {
+            primitives.push_back(packCsg(*c, material, csg));
+            bounds.push_back(boundsCsg(*c));
+        } else {
+            appendPrimitives(object.shape, material, primitives, bounds);
+        }
     }
+    for (const Material& m : csg.materials) g.materials.push_back(packMaterial(m));
 
     // Bounded primitives go into the BVH (reordered to its leaf order),
     // unbounded ones (planes) after them. Bounds are padded by a few float
@@ -113,6 +125,13 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     source.insert(source.end(), unbounded.begin(), unbounded.end());
     g.primitives = std::move(primitives);
     permuteInPlace(g.primitives, source);
+    // The csg leaves after every other primitive; each csg primitive's a.w
+    // becomes the index of its first leaf there.
+    uint32_t leafBase = uint32_t(g.primitives.size());
+    for (gpu::Primitive& p : g.primitives)
+        if (p.info.x == gpu::kShapeCsg) p.a.w = glm::uintBitsToFloat(leafBase + glm::floatBitsToUint(p.a.w));
+    g.primitives.insert(g.primitives.end(), csg.leaves.begin(), csg.leaves.end());
+    g.csgNodes = std::move(csg.nodes);
     for (const PointLight& light : scene.lights)
         g.lights.push_back({.position = glm::vec4(glm::vec3(light.position), 1.0f),
                             .color = glm::vec4(glm::vec3(light.color), 1.0f)});
@@ -128,9 +147,17 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
 
 SceneArrayCounts countSceneArrays(const Scene& scene) {
     SceneArrayCounts counts;
-    for (const Object& object : scene.objects) counts.primitives += primitiveCount(object.shape);
+    uint64_t leaves = 0, childMaterials = 0;
+    for (const Object& object : scene.objects) {
+        counts.primitives += primitiveCount(object.shape);
+        if (const Csg* csg = std::get_if<Csg>(&object.shape)) {
+            leaves += csgLeafCount(*csg);
+            childMaterials += csgOwnMaterialCount(*csg);
+        }
+    }
     counts.bvhNodes = std::max<uint64_t>(2 * counts.primitives, 1) - 1;
-    counts.materials = scene.objects.size();
+    counts.primitives += leaves;
+    counts.materials = scene.objects.size() + childMaterials;
     counts.lights = scene.lights.size();
     return counts;
 }

@@ -18,6 +18,7 @@ struct GpuScene {
     std::vector<gpu::Material> materials;
     std::vector<gpu::Light> lights;
     std::vector<gpu::BvhNode> bvhNodes;  // empty: brute force over all primitives
+    std::vector<gpu::CsgNode> csgNodes;  // the csg objects' programs (empty: no csg)
     BvhStats bvhStats;
     gpu::FrameParams params{};
     int width = 0;

@@ -80,7 +80,10 @@ GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const R
 // out (on lavapipe every branch costs, taken or not: shaders/intersect.glsl).
 std::array<uint32_t, 3> specializationFor(const GpuScene& scene) {
     std::array<uint32_t, 3> constants = {0u, 0u, 0u};
-    for (size_t i = 0; i < scene.primitives.size(); ++i)
+    // The csg leaves after the listed primitives are intersected by
+    // intersectCsg only.
+    size_t listEnd = scene.params.accel.y + scene.params.accel.z;
+    for (size_t i = 0; i < listEnd; ++i)
         constants[i < scene.params.accel.y ? 0 : 2] |= 1u << scene.primitives[i].info.x;
     for (const gpu::Material& m : scene.materials) constants[1] |= m.coefs1.y > 0.0f ? 1u : 0u;
     return constants;
@@ -260,6 +263,7 @@ void Renderer::uploadScene() {
     materials_ = {};
     lights_ = {};
     bvhNodes_ = {};
+    csgNodes_ = {};
     accelerationStructures_ = {};
     if (trace_ == TracePath::RayQuery) {
         // The device's structures over the bounded primitives replace the
@@ -281,10 +285,15 @@ void Renderer::uploadScene() {
     deviceBytes_ += materials_.size;
     lights_ = upload(scene_.lights, "lights");
     deviceBytes_ += lights_.size;
+    csgNodes_ = upload(scene_.csgNodes, "CSG nodes");
+    deviceBytes_ += csgNodes_.size;
     glm::uvec2 p = addressWords(primitives_), n = addressWords(bvhNodes_);
     glm::uvec2 m = addressWords(materials_), l = addressWords(lights_);
     scene_.params.addresses0 = glm::uvec4(p, n);
     scene_.params.addresses1 = glm::uvec4(m, l);
+    glm::uvec2 c = addressWords(csgNodes_);
+    scene_.params.addresses2.x = c.x;
+    scene_.params.addresses2.y = c.y;
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
 
     // In the order of kBindings.

@@ -122,6 +122,7 @@ private:
     ImageLayout layout_;
     uint32_t bandRows_ = 0;  // rows of the region per band
     Buffer params_, primitives_, materials_, lights_, output_, counters_, bvhNodes_;
+    Buffer csgNodes_;  // the csg objects' programs (FrameParams.addresses2.xy)
     // Adaptive anti-aliasing: pixel list, first-pass guide, sample
     // statistics (host-visible: the host reads and writes them between
     // passes); and the band's read-back staging buffer.

@@ -90,7 +90,36 @@ struct Mesh {
     std::vector<std::array<glm::dvec3, 3>> normals;
 };
 
-using Shape = std::variant<Sphere, Cylinder, Plane, Triangle, Box, Mesh>;
+struct CsgChild;
+
+// Limits of a csg tree, set by the shader's fixed-size state (the same
+// numbers as in shaders/device_types.h, static_asserted in
+// host/shapes/csg.cpp): leaf shapes under one top-level csg object, and
+// csg objects nested in each other (a csg object of leaves only: 1).
+inline constexpr size_t kCsgMaxLeaves = 16;
+inline constexpr int kCsgMaxDepth = 8;
+
+// Constructive solid geometry (README "CSG"): the union, intersection or
+// difference (the first child minus the others) of closed solids: spheres,
+// cylinders, boxes and nested csg objects. The children are in world space;
+// position is the csg object's <position>, which they were placed from.
+struct Csg {
+    enum class Operation { Union, Intersection, Difference };
+    Operation operation = Operation::Union;
+    glm::dvec3 position{0, 0, 0};
+    std::vector<CsgChild> children;
+};
+
+using Shape = std::variant<Sphere, Cylinder, Plane, Triangle, Box, Mesh, Csg>;
+
+// A child of a csg object. Its material is its own when its <object> gives
+// any material element (ownMaterial), else the csg object's (POV-Ray's rule).
+struct CsgChild {
+    Shape shape;
+    Material material;
+    bool ownMaterial = false;
+    int sourceLine = 0;
+};
 
 struct Object {
     Shape shape;

@@ -288,7 +288,15 @@ private:
 
 // ---- The schema ----------------------------------------------------------------------
 
-const std::vector<std::string> kTypeNames = {"sphere", "cylinder", "mesh", "plane", "triangle", "box"};
+const std::vector<std::string> kTypeNames = {"sphere", "cylinder", "mesh", "plane", "triangle", "box", "csg"};
+// The types a csg object's child may have: closed solids.
+const std::vector<std::string> kCsgChildTypes = {"sphere", "cylinder", "box", "csg"};
+// The material elements of an <object> and of its <properties>: a csg child
+// with none of them takes the csg object's material.
+const std::vector<std::string_view> kObjectMaterialElements = {"diffuse_color", "specular_color"};
+const std::vector<std::string_view> kMaterialProperties = {
+    "refraction_coef", "transmission_coef", "specular_coef", "diffuse_coef", "ambiente_coef", "reflective",
+    "shininess",       "reflection_coef",   "checker_color", "checker_size", "absorption"};
 
 // <properties>: the seed's material elements, the extensions, then the
 // shape elements (each applies to some types only; see readShape).
@@ -313,7 +321,8 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"polygons"},
                                                {"file"},
                                                {"scale"},
-                                               {"rotation"}};
+                                               {"rotation"},
+                                               {"operation"}};
 
 // One number of a vector or colour.
 struct Component {
@@ -543,28 +552,108 @@ private:
         if (scene_.objects.empty()) diag_.warn(e, "scene has no objects; the image will be black");
     }
 
-    Object readObject(const XMLElement* e) {
-        ElementReader object(diag_, e, {{"position"}, {"diffuse_color"}, {"specular_color"}, {"properties"}});
+    // A top-level <object> (csg == nullptr), or a child of a csg object:
+    // then its position is relative to csg->origin, it must be a closed
+    // solid, and without material elements it takes csg->material.
+    struct CsgParent {
+        glm::dvec3 origin;
+        const Material* material;
+        int depth;  // of the parent: 1 for a top-level csg object
+    };
+
+    Object readObject(const XMLElement* e, const CsgParent* csg = nullptr) {
+        ElementReader object(diag_, e,
+                             {{"position"}, {"diffuse_color"}, {"specular_color"}, {"properties"}, {"objects"}});
         ElementReader properties(diag_, object.required("properties"), kPropertyRules);
 
         const XMLElement* typeElement = properties.required("type");
         std::string type = valueText(typeElement);
         if (std::find(kTypeNames.begin(), kTypeNames.end(), type) == kTypeNames.end())
             diag_.fail(typeElement, "<type> must be " + joined(kTypeNames, " or ") + ", got " + inQuotes(type));
+        if (csg && std::find(kCsgChildTypes.begin(), kCsgChildTypes.end(), type) == kCsgChildTypes.end())
+            diag_.fail(typeElement, "a csg child cannot be of type " + type + "; it must be a closed solid: " +
+                                        joined(kCsgChildTypes, " or "));
+        if (csg && type == "csg" && csg->depth + 1 > int(kCsgMaxDepth))
+            diag_.fail(e, "csg objects nested " + std::to_string(csg->depth + 1) + " deep; at most " +
+                              std::to_string(kCsgMaxDepth) + " levels (the shader's evaluation stack)");
+        glm::dvec3 origin = csg ? csg->origin : glm::dvec3(0);
 
         Object result;
         result.sourceLine = e->GetLineNum();
-        result.material = readMaterial(object, properties);
-        result.shape = readShape(type, object, properties);
+        bool ownMaterial = !csg || hasMaterial(e);
+        result.material = ownMaterial ? readMaterial(object, properties) : *csg->material;
+        if (type == "csg") {
+            result.shape = readCsg(object, properties, origin, result.material, csg ? csg->depth + 1 : 1);
+        } else {
+            if (const XMLElement* objects = object.optional("objects"))
+                diag_.fail(objects, "<objects> does not apply to type " + type + "; only a csg object has children");
+            result.shape = readShape(type, object, properties, origin);
+        }
         // A checker is anchored at the object's position (the origin without one).
         const XMLElement* position = object.optional("position");
-        if (position && result.material.checkerSize > 0) result.material.checkerOrigin = vector(position);
+        if (ownMaterial && position && result.material.checkerSize > 0)
+            result.material.checkerOrigin = origin + vector(position);
 
         // The shape readers took what their type uses; anything left over
         // belongs to another type.
         if (const XMLElement* extra = properties.firstUnused())
             diag_.fail(extra, tag(extra->Name()) + " does not apply to type " + type);
         return result;
+    }
+
+    // Whether an <object> (already checked by readObject's readers) gives
+    // any material element.
+    static bool hasMaterial(const XMLElement* object) {
+        auto has = [](const XMLElement* e, std::string_view name) {
+            return e && e->FirstChildElement(std::string(name).c_str()) != nullptr;
+        };
+        const XMLElement* properties = object->FirstChildElement("properties");
+        return std::any_of(kObjectMaterialElements.begin(), kObjectMaterialElements.end(),
+                           [&](std::string_view n) { return has(object, n); }) ||
+               std::any_of(kMaterialProperties.begin(), kMaterialProperties.end(),
+                           [&](std::string_view n) { return has(properties, n); });
+    }
+
+    static size_t leafCount(const Csg& csg) {
+        size_t count = 0;
+        for (const CsgChild& child : csg.children)
+            count += std::holds_alternative<Csg>(child.shape) ? leafCount(std::get<Csg>(child.shape)) : 1;
+        return count;
+    }
+
+    // A csg object (README "CSG"): <operation> in <properties>, its children
+    // in <objects>, placed relative to its <position> (the parent's origin
+    // without one). The leaves of a top-level csg object are limited by the
+    // shader's fixed-size state (device_types.h).
+    Csg readCsg(ElementReader& object, ElementReader& properties, const glm::dvec3& origin, const Material& material,
+                int depth) {
+        const XMLElement* e = object.element();
+        Csg csg;
+        const XMLElement* operation = properties.optional("operation");
+        if (!operation) diag_.fail(e, "<object> is missing <operation> (required for type csg)");
+        std::string op = valueText(operation);
+        if (op == "union") csg.operation = Csg::Operation::Union;
+        else if (op == "intersection") csg.operation = Csg::Operation::Intersection;
+        else if (op == "difference") csg.operation = Csg::Operation::Difference;
+        else diag_.fail(operation, "<operation> must be union, intersection or difference, got " + inQuotes(op));
+        const XMLElement* position = object.optional("position");
+        csg.position = origin + (position ? vector(position) : glm::dvec3(0));
+        const XMLElement* objectsElement = object.optional("objects");
+        if (!objectsElement) diag_.fail(e, "<object> is missing <objects> (required for type csg)");
+        ElementReader objects(diag_, objectsElement, {{"object", true}});
+        if (objects.all("object").size() < 2)
+            diag_.fail(objectsElement, "<objects> of a csg object holds " + std::to_string(objects.all("object").size()) +
+                                           " <object>; a csg object needs at least two");
+        CsgParent parent{csg.position, &material, depth};
+        for (const XMLElement* child : objects.all("object")) {
+            Object o = readObject(child, &parent);
+            csg.children.push_back({std::move(o.shape), o.material, hasMaterial(child), o.sourceLine});
+        }
+        if (depth == 1 && leafCount(csg) > kCsgMaxLeaves)
+            diag_.fail(e, "csg object has " + std::to_string(leafCount(csg)) +
+                              " leaf shapes (spheres, cylinders, boxes) in all; at most " +
+                              std::to_string(kCsgMaxLeaves) + " (the shader's span arrays)");
+        return csg;
     }
 
     Material readMaterial(ElementReader& object, ElementReader& properties) const {
@@ -606,7 +695,8 @@ private:
         return m;
     }
 
-    Shape readShape(const std::string& type, ElementReader& object, ElementReader& properties) {
+    Shape readShape(const std::string& type, ElementReader& object, ElementReader& properties,
+                    const glm::dvec3& origin) {
         // What the type requires is reported against <object>.
         auto missing = [&](std::string_view name) {
             diag_.fail(object.element(), "<object> is missing " + tag(name) + " (required for type " + type + ")");
@@ -621,7 +711,7 @@ private:
         // leave the position out.
         const XMLElement* positionElement = object.optional("position");
         if (!positionElement && type != "mesh" && type != "triangle") missing("position");
-        glm::dvec3 position = positionElement ? vector(positionElement) : glm::dvec3(0);
+        glm::dvec3 position = origin + (positionElement ? vector(positionElement) : glm::dvec3(0));
 
         if (type == "sphere") return Sphere{position, number(need("radius"), kPositive)};
         if (type == "cylinder") {

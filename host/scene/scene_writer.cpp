@@ -48,44 +48,7 @@ void writeCamera(XmlOut& x, const Camera& c) {
     x.close("camera");
 }
 
-// Vertices relative to `origin`, the <position> written for the object.
-void writeTriangleVertices(XmlOut& x, const Triangle& t, const glm::dvec3& origin) {
-    x.vector("vertex", t.v0 - origin);
-    x.vector("vertex", t.v1 - origin);
-    x.vector("vertex", t.v2 - origin);
-}
-
-void writeObject(XmlOut& x, const Object& o) {
-    const Material& m = o.material;
-    x.open("object");
-    // Triangles and meshes are written in world space without a position,
-    // unless their checker is anchored elsewhere: then at the checker's
-    // origin, vertices relative to it.
-    bool hasVertices = std::holds_alternative<Triangle>(o.shape) || std::holds_alternative<Mesh>(o.shape);
-    glm::dvec3 vertexOrigin(0);
-    if (hasVertices && m.checkerSize > 0 && m.checkerOrigin != glm::dvec3(0)) {
-        vertexOrigin = m.checkerOrigin;
-        x.vector("position", vertexOrigin);
-    }
-    // Position first (the seed's order), for the shapes that have one.
-    std::visit(
-        [&](const auto& s) {
-            using T = std::decay_t<decltype(s)>;
-            if constexpr (std::is_same_v<T, Sphere>)
-                x.vector("position", s.center);
-            else if constexpr (std::is_same_v<T, Cylinder>)
-                x.vector("position", s.base);
-            else if constexpr (std::is_same_v<T, Plane>)
-                x.vector("position", s.point);
-            else if constexpr (std::is_same_v<T, Box>)
-                x.vector("position", s.min);
-        },
-        o.shape);
-    x.colour("diffuse_color", m.diffuseColor);
-    x.colour("specular_color", m.specularColor);
-    x.open("properties");
-    static const char* kTypes[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh"};
-    x.value("type", kTypes[o.shape.index()]);
+void writeMaterialProperties(XmlOut& x, const Material& m) {
     x.value("refraction_coef", m.ior);
     x.value("transmission_coef", m.transmission);
     x.value("specular_coef", m.specular);
@@ -98,6 +61,57 @@ void writeObject(XmlOut& x, const Object& o) {
         x.value("checker_size", m.checkerSize);
     }
     if (m.absorption != glm::dvec3(0)) x.colour("absorption", m.absorption);
+}
+
+// Vertices relative to `origin`, the <position> written for the object.
+void writeTriangleVertices(XmlOut& x, const Triangle& t, const glm::dvec3& origin) {
+    x.vector("vertex", t.v0 - origin);
+    x.vector("vertex", t.v1 - origin);
+    x.vector("vertex", t.v2 - origin);
+}
+
+// One <object>: a top-level one (origin 0, its material written), or a csg
+// child, its position relative to the csg object's (origin) and its
+// material written only when it has its own.
+void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin);
+
+void writeObject(XmlOut& x, const Object& o) { writeObject(x, o.shape, o.material, true, glm::dvec3(0)); }
+
+void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin) {
+    x.open("object");
+    // Triangles and meshes are written in world space without a position,
+    // unless their checker is anchored elsewhere: then at the checker's
+    // origin, vertices relative to it.
+    bool hasVertices = std::holds_alternative<Triangle>(shape) || std::holds_alternative<Mesh>(shape);
+    glm::dvec3 vertexOrigin(0);
+    if (hasVertices && m.checkerSize > 0 && m.checkerOrigin != glm::dvec3(0)) {
+        vertexOrigin = m.checkerOrigin;
+        x.vector("position", vertexOrigin);
+    }
+    // Position first (the seed's order), for the shapes that have one.
+    std::visit(
+        [&](const auto& s) {
+            using T = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<T, Sphere>)
+                x.vector("position", s.center - origin);
+            else if constexpr (std::is_same_v<T, Cylinder>)
+                x.vector("position", s.base - origin);
+            else if constexpr (std::is_same_v<T, Plane>)
+                x.vector("position", s.point - origin);
+            else if constexpr (std::is_same_v<T, Box>)
+                x.vector("position", s.min - origin);
+            else if constexpr (std::is_same_v<T, Csg>)
+                x.vector("position", s.position - origin);
+        },
+        shape);
+    if (writeMaterial) {
+        x.colour("diffuse_color", m.diffuseColor);
+        x.colour("specular_color", m.specularColor);
+    }
+    x.open("properties");
+    static const char* kTypes[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh", "csg"};
+    x.value("type", kTypes[shape.index()]);
+    if (writeMaterial) writeMaterialProperties(x, m);
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
@@ -113,6 +127,9 @@ void writeObject(XmlOut& x, const Object& o) {
                 writeTriangleVertices(x, s, vertexOrigin);
             } else if constexpr (std::is_same_v<T, Box>) {
                 x.vector("size", s.max - s.min);
+            } else if constexpr (std::is_same_v<T, Csg>) {
+                static const char* kOperations[] = {"union", "intersection", "difference"};
+                x.value("operation", kOperations[int(s.operation)]);
             } else {
                 x.open("polygons");
                 for (const Triangle& t : s.triangles) {
@@ -123,14 +140,22 @@ void writeObject(XmlOut& x, const Object& o) {
                 x.close("polygons");
             }
         },
-        o.shape);
+        shape);
     x.close("properties");
+    if (const Csg* csg = std::get_if<Csg>(&shape)) {
+        x.open("objects");
+        for (const CsgChild& child : csg->children)
+            writeObject(x, child.shape, child.material, child.ownMaterial, csg->position);
+        x.close("objects");
+    }
     x.close("object");
 }
 
 }  // namespace
 
-static_assert(std::is_same_v<std::variant_alternative_t<5, Shape>, Mesh>, "kTypes follows the Shape variant's order");
+static_assert(std::is_same_v<std::variant_alternative_t<5, Shape>, Mesh> &&
+                  std::is_same_v<std::variant_alternative_t<6, Shape>, Csg>,
+              "kTypes follows the Shape variant's order");
 
 std::string sceneCameraXml(const Camera& camera, int indent) {
     XmlOut x;

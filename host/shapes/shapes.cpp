@@ -1,5 +1,6 @@
 #include "shapes/shapes.h"
 
+#include <stdexcept>
 #include <type_traits>
 
 namespace whitted {
@@ -29,6 +30,8 @@ void appendPrimitives(const Shape& shape, uint32_t material, std::vector<gpu::Pr
                     add(s.normals.empty() ? packTriangle(t, material) : packSmoothTriangle(t, s.normals[i], material),
                         boundsTriangle(t));
                 }
+            else if constexpr (std::is_same_v<T, Csg>)
+                throw std::logic_error("a csg object is packed by packCsg");
             else static_assert(sizeof(T) == 0, "unhandled shape");
         },
         shape);

@@ -30,11 +30,30 @@ Aabb boundsPlane(const Plane& plane);
 Aabb boundsTriangle(const Triangle& triangle);
 Aabb boundsBox(const Box& box);
 
-// How many primitives a shape becomes.
+// A top-level csg object's arrays while the scene is packed: its leaves
+// (ordinary primitives, stored after all others), its postfix program, and
+// the materials of children that have their own, whose indices start at
+// firstMaterial.
+struct CsgArrays {
+    std::vector<gpu::Primitive> leaves;
+    std::vector<gpu::CsgNode> nodes;
+    std::vector<Material> materials;
+    uint32_t firstMaterial = 0;
+};
+// The csg object's primitive: its bounds, a.w = its first leaf's index in
+// arrays.leaves (the caller adds where the leaves start in the primitive
+// array), b.w its leaf count, info.zw its program's range in arrays.nodes.
+gpu::Primitive packCsg(const Csg& csg, uint32_t material, CsgArrays& arrays);
+Aabb boundsCsg(const Csg& csg);
+size_t csgLeafCount(const Csg& csg);
+size_t csgOwnMaterialCount(const Csg& csg);  // children with a material of their own
+
+// How many primitives a shape becomes (a csg object: one in the BVH; its
+// leaves are counted by csgLeafCount).
 size_t primitiveCount(const Shape& shape);
 
-// Appends the primitives of any shape (a mesh becomes one triangle each)
-// and the bounds of each.
+// Appends the primitives of any shape but csg (a mesh becomes one triangle
+// each) and the bounds of each.
 void appendPrimitives(const Shape& shape, uint32_t material, std::vector<gpu::Primitive>& out,
                       std::vector<Aabb>& bounds);
 

@@ -6,6 +6,7 @@
 #include <variant>
 
 #include "scene/scene_writer.h"
+#include "shapes/shapes.h"
 
 namespace whitted {
 namespace {
@@ -119,6 +120,10 @@ double sceneRadius(const Scene& scene) {
                 } else if constexpr (std::is_same_v<T, Box>) {
                     add(s.min);
                     add(s.max);
+                } else if constexpr (std::is_same_v<T, Csg>) {
+                    Aabb b = boundsCsg(s);
+                    add(glm::dvec3(b.min));
+                    add(glm::dvec3(b.max));
                 } else
                     for (const Triangle& t : s.triangles) {
                         add(t.v0);

@@ -12,7 +12,7 @@ namespace whitted {
 namespace {
 
 const char* shapeName(const Shape& s) {
-    static const char* kNames[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh"};
+    static const char* kNames[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh", "csg"};
     return kNames[s.index()];
 }
 
@@ -129,6 +129,14 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
                 result.changed = true;
             }
         }
+        if (auto* csg = std::get_if<Csg>(&o.shape)) {
+            // The csg object's operation (README "CSG").
+            int op = int(csg->operation);
+            if (ImGui::Combo("operation", &op, "union\0intersection\0difference\0")) {
+                csg->operation = Csg::Operation(op);
+                result.changed = true;
+            }
+        }
         result.changed |= editColour("diffuse colour", m.diffuseColor, false);
         result.changed |= editColour("specular colour", m.specularColor, false);
         result.changed |= editScalar("ambient ka", m.ambient, 0, 1);
@@ -200,6 +208,12 @@ void translateShape(Shape& shape, const glm::dvec3& d) {
             } else if constexpr (std::is_same_v<T, Box>) {
                 s.min += d;
                 s.max += d;
+            } else if constexpr (std::is_same_v<T, Csg>) {
+                s.position += d;
+                for (CsgChild& child : s.children) {
+                    child.material.checkerOrigin += d;
+                    translateShape(child.shape, d);
+                }
             } else
                 for (Triangle& t : s.triangles) {
                     t.v0 += d;
@@ -224,6 +238,8 @@ glm::dvec3 shapeReferencePoint(const Shape& shape) {
                 return s.v0;
             else if constexpr (std::is_same_v<T, Box>)
                 return s.min;
+            else if constexpr (std::is_same_v<T, Csg>)
+                return s.position;
             else
                 return s.triangles.empty() ? glm::dvec3(0) : s.triangles.front().v0;
         },

@@ -88,6 +88,8 @@ void checkScene(const Scene& scene) {
                     check(s.normals.empty() || s.normals.size() == s.triangles.size());
                     for (const auto& n : s.normals)
                         for (const glm::dvec3& v : n) checkUnit(v);
+                } else if constexpr (std::is_same_v<T, Csg>) {
+                    check(s.children.size() >= 2);
                 }
             },
             o.shape);
