@@ -488,7 +488,7 @@ std::string nested(int depth) {
 const std::string kPropertyList =
     "type, refraction_coef, transmission_coef, specular_coef, diffuse_coef, ambiente_coef, reflective, shininess, "
     "reflection_coef, checker_color, checker_size, absorption, radius, height, axis, normal, size, vertex, polygons, "
-    "file, scale, rotation";
+    "file, scale, rotation, operation";
 
 std::vector<BadCase> xmlCases() {
     const std::string camera =
@@ -689,7 +689,7 @@ std::vector<BadCase> objectCases() {
         {"UnknownObjectChild",
          sceneWith(objectOf("sphere", "<radius>1</radius>", "<position x=\"0\" y=\"0\" z=\"0\"/><colour/>")),
          "t.xml:9: unknown element <colour> in <object>; expected one of: position, diffuse_color, specular_color, "
-         "properties"},
+         "properties, objects"},
         {"DuplicateRadius", sphereWith("<radius>1</radius>\n<radius>2</radius>"),
          "t.xml:13: duplicate <radius> in <properties>"},
         {"MissingProperties", sceneWith("<object>\n<position x=\"0\" y=\"0\" z=\"0\"/></object>"),
@@ -698,7 +698,7 @@ std::vector<BadCase> objectCases() {
          sceneWith("<object><position x=\"0\" y=\"0\" z=\"0\"/>\n<properties><radius>1</radius></properties></object>"),
          "t.xml:9: <properties> is missing <type>"},
         {"UnknownType", sceneWith(objectOf("cone", "")),
-         "t.xml:11: <type> must be sphere, cylinder, mesh, plane, triangle or box, got \"cone\""},
+         "t.xml:11: <type> must be sphere, cylinder, mesh, plane, triangle, box or csg, got \"cone\""},
         {"HeightOnSphere", sphereWith("<radius>1</radius>\n<height>2</height>"),
          "t.xml:13: <height> does not apply to type sphere"},
         {"RadiusOnBox", sceneWith(objectOf("box", "<size x=\"1\" y=\"1\" z=\"1\"/>\n<radius>1</radius>")),

@@ -211,10 +211,25 @@ std::string exportPovray(const Scene& scene, const PovrayExportOptions& options)
     return s.str();
 }
 
+namespace {
+
+// The materials of a csg object's children, nested ones included.
+void csgMaterials(const Csg& csg, std::vector<const Material*>& out) {
+    for (const CsgChild& child : csg.children) {
+        out.push_back(&child.material);
+        if (const Csg* nested = std::get_if<Csg>(&child.shape)) csgMaterials(*nested, out);
+    }
+}
+
+}  // namespace
+
 std::vector<std::string> povrayInexactMappings(const Scene& scene) {
     std::vector<std::string> notes;
     for (const Object& object : scene.objects) {
-        const Material& m = object.material;
+        std::vector<const Material*> used = {&object.material};
+        if (const Csg* csg = std::get_if<Csg>(&object.shape)) csgMaterials(*csg, used);
+        for (const Material* material : used) {
+        const Material& m = *material;
         if (m.specular > 0.0 && !isGrey(m.specularColor))
             notes.push_back(where(scene, object) +
                             ": a Phong highlight with a coloured specular_color (POV-Ray's phong highlight takes "
@@ -223,6 +238,7 @@ std::vector<std::string> povrayInexactMappings(const Scene& scene) {
             notes.push_back(where(scene, object) +
                             ": transmission (POV-Ray dims the local terms by the pigment's opacity and filters "
                             "refracted light by the pigment; exported approximately, its shadows exactly)");
+        }
     }
     return notes;
 }

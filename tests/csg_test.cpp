@@ -1,0 +1,249 @@
+// Constructive solid geometry (README "CSG"; host/shapes/csg.cpp,
+// shaders/shapes/csg.glsl): what the loader builds, a difference's shadow
+// against the camera's view of it, and a glass lens made as the
+// intersection of two spheres against the thick-lens formula. The POV-Ray
+// cross-check of nested opaque CSG is tests/povray_scenes/csg.xml
+// (tests/povray_test.cpp), the ray-query path tests/ray_query_test.cpp, the
+// refused input tests/bad_scenes/csg_*.xml.
+#include "scene/scene_loader.h"
+#include "scene/scene_writer.h"
+#include "test_support.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <string>
+
+namespace whitted::test {
+namespace {
+
+std::string sceneXml(const std::string& camera, const std::string& lights, const std::string& objects) {
+    return "<scene><camera>" + camera + "</camera><lights>" + lights + "</lights><objects>" + objects +
+           "</objects></scene>";
+}
+
+// ---- The loader --------------------------------------------------------------
+
+// Children are placed from the csg object's position (nested ones from
+// their parent's); a child without material elements takes its csg
+// object's material, one with any keeps its own (defaults for the rest), a
+// nested csg object's material passes to its own children.
+TEST(CsgLoader, PlacesChildrenAndPassesMaterialsDown) {
+    const std::string xml = sceneXml(
+        R"(<position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/>)", "",
+        R"(<object><position x="1" y="2" z="3"/><diffuse_color r="1" g="0" b="0"/>
+             <properties><type>csg</type><operation>difference</operation><diffuse_coef>0.5</diffuse_coef></properties>
+             <objects>
+               <object><position x="0" y="0" z="0"/><properties><type>sphere</type><radius>1</radius></properties></object>
+               <object><position x="0.5" y="0" z="0"/><diffuse_color r="0" g="1" b="0"/>
+                 <properties><type>box</type><size x="1" y="1" z="1"/></properties></object>
+               <object><position x="0" y="-1" z="0"/><diffuse_color r="0" g="0" b="1"/>
+                 <properties><type>csg</type><operation>intersection</operation></properties>
+                 <objects>
+                   <object><position x="0" y="0" z="0"/><properties><type>cylinder</type><radius>0.2</radius><height>1</height></properties></object>
+                   <object><position x="0" y="0.5" z="0"/><properties><type>sphere</type><radius>0.4</radius></properties></object>
+                 </objects>
+               </object>
+             </objects></object>)");
+    Scene scene = loadSceneFromString(xml, "t.xml");
+    ASSERT_EQ(scene.objects.size(), 1u);
+    const Csg& csg = std::get<Csg>(scene.objects[0].shape);
+    EXPECT_EQ(csg.operation, Csg::Operation::Difference);
+    EXPECT_EQ(csg.position, glm::dvec3(1, 2, 3));
+    ASSERT_EQ(csg.children.size(), 3u);
+
+    const CsgChild& sphere = csg.children[0];
+    EXPECT_EQ(std::get<Sphere>(sphere.shape).center, glm::dvec3(1, 2, 3));
+    EXPECT_FALSE(sphere.ownMaterial);
+    EXPECT_EQ(sphere.material.diffuseColor, glm::dvec3(1, 0, 0));
+    EXPECT_EQ(sphere.material.diffuse, 0.5);
+
+    const CsgChild& box = csg.children[1];
+    EXPECT_EQ(std::get<Box>(box.shape).min, glm::dvec3(1.5, 2, 3));
+    EXPECT_EQ(std::get<Box>(box.shape).max, glm::dvec3(2.5, 3, 4));
+    EXPECT_TRUE(box.ownMaterial);
+    EXPECT_EQ(box.material.diffuseColor, glm::dvec3(0, 1, 0));
+    EXPECT_EQ(box.material.diffuse, Material{}.diffuse);  // its own: the default, not the csg object's 0.5
+
+    const Csg& nested = std::get<Csg>(csg.children[2].shape);
+    EXPECT_EQ(nested.operation, Csg::Operation::Intersection);
+    EXPECT_EQ(nested.position, glm::dvec3(1, 1, 3));
+    EXPECT_EQ(std::get<Cylinder>(nested.children[0].shape).base, glm::dvec3(1, 1, 3));
+    EXPECT_EQ(std::get<Sphere>(nested.children[1].shape).center, glm::dvec3(1, 1.5, 3));
+    for (const CsgChild& c : nested.children) {
+        EXPECT_FALSE(c.ownMaterial);
+        EXPECT_EQ(c.material.diffuseColor, glm::dvec3(0, 0, 1));
+    }
+
+    // The scene writer keeps all of it: positions relative to the parent,
+    // materials only where a child has its own.
+    Scene again = loadSceneFromString(whitted::sceneXml(scene), "again.xml");
+    const Csg& csg2 = std::get<Csg>(again.objects[0].shape);
+    EXPECT_EQ(csg2.operation, Csg::Operation::Difference);
+    EXPECT_EQ(std::get<Box>(csg2.children[1].shape).min, glm::dvec3(1.5, 2, 3));
+    EXPECT_FALSE(csg2.children[0].ownMaterial);
+    EXPECT_TRUE(csg2.children[1].ownMaterial);
+    EXPECT_EQ(csg2.children[1].material.diffuseColor, glm::dvec3(0, 1, 0));
+    const Csg& nested2 = std::get<Csg>(csg2.children[2].shape);
+    EXPECT_EQ(std::get<Sphere>(nested2.children[1].shape).center, glm::dvec3(1, 1.5, 3));
+    EXPECT_EQ(nested2.children[1].material.diffuseColor, glm::dvec3(0, 0, 1));
+}
+
+// ---- Shadows ------------------------------------------------------------------
+
+// A slab (box) with a sphere removed from its middle, lit from straight
+// above: its shadow on the floor is a square with a lit disc where the light
+// comes through the hole. The camera sits below the slab, so it sees the
+// floor directly (the slab itself only above the horizon). Every floor pixel whose shadow ray is clearly blocked or
+// clearly free (decided in double precision by sampling the segment to the
+// light against the solid's exact shape, margin 1e-3) must have the diffuse
+// term 0 or kd cos(theta) exactly. A shadow ray that took the csg object for
+// its box (or for its convex hull) would darken the disc; one that took the
+// sphere's surface for an obstacle would darken a ring around it.
+TEST(CsgRender, DifferenceCastsTheShadowOfItsShape) {
+    const int w = 160, h = 120;
+    const glm::dvec3 light(0, 4, 0), eye(0, 0.9, 3), window(0, 0.6, 2);
+    const glm::dvec3 boxMin(-1, 1, -1), boxMax(1, 1.2, 1), centre(0, 1.1, 0);
+    const double radius = 0.5;
+    const std::string xml = sceneXml(
+        R"(<position x="0" y="0.9" z="3"/><window_position x="0" y="0.6" z="2"/><fov>60</fov>)",
+        R"(<light><position x="0" y="4" z="0"/><color r="1" g="1" b="1"/></light>)",
+        R"(<object><position x="0" y="0" z="0"/><properties><type>plane</type><normal x="0" y="1" z="0"/></properties></object>
+           <object><position x="0" y="1.1" z="0"/><diffuse_color r="0.8" g="0.3" b="0.2"/>
+             <properties><type>csg</type><operation>difference</operation></properties>
+             <objects>
+               <object><position x="-1" y="-0.1" z="-1"/><properties><type>box</type><size x="2" y="0.2" z="2"/></properties></object>
+               <object><position x="0" y="0" z="0"/><properties><type>sphere</type><radius>0.5</radius></properties></object>
+             </objects></object>)");
+    // The largest margin by which a point is inside the solid (negative:
+    // outside by that much).
+    auto solidMargin = [&](const glm::dvec3& q) {
+        glm::dvec3 in = glm::min(q - boxMin, boxMax - q);
+        return std::min({in.x, in.y, in.z, glm::length(q - centre) - radius});
+    };
+    for (TracePath trace : {TracePath::Bvh, TracePath::RayQuery}) {
+        if (trace == TracePath::RayQuery && !testContext().deviceInfo().rayQuery) continue;
+        RenderSettings s{.width = w, .height = h, .samplesPerPixel = 1, .maxDepth = 0, .auxiliary = true,
+                         .trace = trace, .antiAliasing = AntiAliasing::Uniform};
+        RenderResult r = renderXml(xml, s);
+        // The camera frame of host/render/gpu_scene.cpp.
+        const double tanHalf = std::tan(glm::radians(60.0) / 2.0), aspect = double(w) / h;
+        const glm::dvec3 forward = glm::normalize(window - eye);
+        const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0, 1, 0)));
+        const glm::dvec3 up = glm::cross(right, forward);
+        int lit = 0, litThroughHole = 0, shadowed = 0;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                glm::dvec3 d = glm::normalize(forward + (2.0 * (x + 0.5) / w - 1.0) * tanHalf * aspect * right +
+                                              (1.0 - 2.0 * (y + 0.5) / h) * tanHalf * up);
+                if (d.y >= -1e-3) continue;  // not the floor
+                glm::dvec3 p = eye + d * (-eye.y / d.y);
+                // Where the segment to the light crosses the slab's height.
+                double most = -1e9;
+                for (int k = 0; k <= 4000; ++k) {
+                    double yk = boxMin.y - 0.01 + (boxMax.y - boxMin.y + 0.02) * k / 4000.0;
+                    glm::dvec3 q = p + (light - p) * ((yk - p.y) / (light.y - p.y));
+                    most = std::max(most, solidMargin(q));
+                }
+                if (std::abs(most) < 1e-3) continue;  // too near the shadow's edge to call
+                bool blocked = most > 0;
+                double expected = blocked ? 0.0 : glm::normalize(light - p).y;
+                glm::vec4 diffuse = pixel(r, gpu::kAovDiffuse, x, y);
+                EXPECT_NEAR(diffuse.r, expected, 1e-4)
+                    << (trace == TracePath::Bvh ? "BVH" : "ray query") << ", pixel " << x << "," << y
+                    << (blocked ? " should be in shadow" : " should be lit");
+                if (blocked) ++shadowed;
+                else if (std::abs(p.x) < 1.3 && std::abs(p.z) < 1.3) ++litThroughHole;
+                else ++lit;
+            }
+        // The image shows all three: open floor, the slab's shadow, the disc of light through the hole.
+        EXPECT_GT(lit, 500);
+        EXPECT_GT(shadowed, 300);
+        EXPECT_GT(litThroughHole, 200);
+    }
+}
+
+// ---- Refraction -----------------------------------------------------------------
+
+// A biconvex glass lens made as the intersection of two spheres (radius R,
+// centres at z = ±(R - t/2): thickness t on the axis, IOR n) must focus
+// where the thick-lens equations say (lensmaker's equation with the
+// thickness term, principal planes; Hecht, Optics, 5th ed., 6.2):
+//   1/f = (n - 1) (2/R - (n - 1) t / (n R^2)),
+// each principal plane f (n - 1) t / (n R) inside its vertex, and an object
+// at s1 before the front one images at s2 after the back one, 1/s1 + 1/s2
+// = 1/f. The eye on the axis is the object; a small matte sphere (radius
+// rho, ambient only, black background) behind the lens is seen through it.
+// A camera ray at height h on the lens crosses the plane of the sphere's
+// centre at distance h |delta| / s2 from the axis, delta the sphere's
+// distance from the focus, so the sphere fills a disc of radius
+// proportional to rho s2 / |delta| in the image. Rendered with the sphere a
+// distance D before and after the predicted focus z0, the disc radii r1, r2
+// (from pixel counts) place the true focus at
+//   z = (r1 (z0 - D) + r2 (z0 + D)) / (r1 + r2),
+// whatever rho, s2 and the pixel scale. The tolerance, 0.015 (0.1% of s2),
+// allows for the pixel count (a disc of about 44 pixels' radius is counted
+// to within about 0.3% of its area: 0.003 in z) and for spherical
+// aberration: the rays that bound the disc pass 0.11 from the axis, where
+// they focus slightly nearer the lens. Measured: 0.005 nearer than z0; with
+// rho (so the heights on the lens) doubled, 0.015 nearer, as an aberration
+// growing with the square of the height does. The thin-lens formula, which
+// ignores the thickness, puts the focus 0.29 away, and a lens whose second
+// surface did not refract (a normal not turned for the ray leaving the
+// glass) would not focus near z0 at all.
+TEST(CsgRender, GlassLensFocusesWhereTheThickLensFormulaSays) {
+    const double n = 1.5, R = 10.0, t = 0.5, eyeZ = 30.0, rho = 0.015, D = 2.0;
+    const double f = 1.0 / ((n - 1.0) * (2.0 / R - (n - 1.0) * t / (n * R * R)));
+    const double inset = f * (n - 1.0) * t / (n * R);
+    const double front = t / 2 - inset, back = -t / 2 + inset;  // principal planes (light goes towards -z)
+    const double s1 = eyeZ - front;
+    const double s2 = 1.0 / (1.0 / f - 1.0 / s1);
+    const double z0 = back - s2;
+    const double thinZ = -1.0 / ((n - 1.0) * 2.0 / R - 1.0 / eyeZ);
+    ASSERT_GT(std::abs(thinZ - z0), 0.2) << "the test must tell the thick lens from the thin one";
+
+    auto discRadius = [&](double sphereZ) {
+        std::ostringstream objects;
+        objects.precision(17);
+        objects << R"(<object><position x="0" y="0" z="0"/><diffuse_color r="1" g="1" b="1"/>
+             <properties><type>csg</type><operation>intersection</operation>
+               <transmission_coef>1</transmission_coef><refraction_coef>)"
+                << n << R"(</refraction_coef><diffuse_coef>0</diffuse_coef></properties><objects>
+               <object><position x="0" y="0" z=")"
+                << -(R - t / 2) << R"("/><properties><type>sphere</type><radius>)" << R
+                << R"(</radius></properties></object>
+               <object><position x="0" y="0" z=")"
+                << (R - t / 2) << R"("/><properties><type>sphere</type><radius>)" << R
+                << R"(</radius></properties></object></objects></object>
+           <object><position x="0" y="0" z=")"
+                << sphereZ << R"("/><diffuse_color r="1" g="0" b="0"/><properties><type>sphere</type><radius>)" << rho
+                << R"(</radius><ambiente_coef>1</ambiente_coef><diffuse_coef>0</diffuse_coef></properties></object>)";
+        std::string xml = "<scene><camera><position x=\"0\" y=\"0\" z=\"30\"/><window_position x=\"0\" y=\"0\" "
+                          "z=\"29\"/><fov>1.6</fov></camera><ambient_light r=\"1\" g=\"1\" b=\"1\"/><lights/>"
+                          "<objects>" +
+                          objects.str() + "</objects></scene>";
+        RenderSettings s{.width = 320, .height = 320, .samplesPerPixel = 1, .maxDepth = 4, .auxiliary = false,
+                         .antiAliasing = AntiAliasing::Uniform};
+        RenderResult r = renderXml(xml, s);
+        int count = 0, edge = 0;
+        for (int y = 0; y < s.height; ++y)
+            for (int x = 0; x < s.width; ++x)
+                if (pixel(r, gpu::kAovColor, x, y).r > 0.5f) {
+                    ++count;
+                    if (x == 0 || y == 0 || x == s.width - 1 || y == s.height - 1) ++edge;
+                }
+        EXPECT_EQ(edge, 0) << "the disc must lie inside the image";
+        return std::sqrt(count / M_PI);
+    };
+    double r1 = discRadius(z0 - D), r2 = discRadius(z0 + D);
+    double focus = (r1 * (z0 - D) + r2 * (z0 + D)) / (r1 + r2);
+    std::printf("[ lens     ] f %.4f, predicted focus z %.4f (thin lens %.4f), disc radii %.2f and %.2f px, "
+                "measured focus z %.4f\n",
+                f, z0, thinZ, r1, r2, focus);
+    EXPECT_GT(r1, 20.0);
+    EXPECT_GT(r2, 20.0);
+    EXPECT_NEAR(focus, z0, 0.015);
+}
+
+}  // namespace
+}  // namespace whitted::test
