@@ -8,6 +8,7 @@
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
 #include "test_support.h"
+#include "view/editor_panel.h"
 
 #include <cmath>
 #include <cstdio>
@@ -87,6 +88,45 @@ TEST(CsgLoader, PlacesChildrenAndPassesMaterialsDown) {
     const Csg& nested2 = std::get<Csg>(csg2.children[2].shape);
     EXPECT_EQ(std::get<Sphere>(nested2.children[1].shape).center, glm::dvec3(1, 1.5, 3));
     EXPECT_EQ(nested2.children[1].material.diffuseColor, glm::dvec3(0, 0, 1));
+}
+
+// ---- Operations -------------------------------------------------------------------
+
+// Two overlapping spheres side by side, seen from the front; the operation
+// set as the editor panel sets it (setObjectField, the script's `edit`).
+// Pixels: through the left sphere only, through the middle (where the left
+// sphere's chord lies inside the right's), through the right sphere only.
+TEST(CsgRender, EachOperationKeepsWhatItShould) {
+    const std::string xml = sceneXml(
+        R"(<position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/>)",
+        R"(<light><position x="0" y="0" z="5"/><color r="1" g="1" b="1"/></light>)",
+        R"(<object><position x="0" y="0" z="0"/><properties><type>csg</type><operation>union</operation></properties>
+             <objects>
+               <object><position x="-0.5" y="0" z="0"/><properties><type>sphere</type><radius>0.8</radius></properties></object>
+               <object><position x="0.5" y="0" z="0"/><properties><type>sphere</type><radius>0.8</radius></properties></object>
+             </objects></object>)");
+    Scene scene = loadSceneFromString(xml, "t.xml");
+    EXPECT_EQ(setObjectField(scene, 0, "operation", 3), "operation must be 0 (union), 1 (intersection) or 2 (difference)");
+    struct Case {
+        int operation;
+        bool left, middle, right;
+    };
+    const Case cases[] = {{0, true, true, true}, {1, false, true, false}, {2, true, false, false}};
+    for (const Case& c : cases) {
+        ASSERT_EQ(setObjectField(scene, 0, "operation", c.operation), std::nullopt);
+        RenderSettings s{.width = 64, .height = 48, .samplesPerPixel = 1, .maxDepth = 0, .auxiliary = true,
+                         .antiAliasing = AntiAliasing::Uniform};
+        RenderResult r = renderScene(scene, s);
+        // The hit mask (w of the normal layer) at x = -1.1, 0.06 and 1.1 in the spheres' plane.
+        EXPECT_EQ(pixel(r, gpu::kAovNormal, 22, 24).w, c.left ? 1.0f : 0.0f) << "operation " << c.operation;
+        EXPECT_EQ(pixel(r, gpu::kAovNormal, 32, 24).w, c.middle ? 1.0f : 0.0f) << "operation " << c.operation;
+        EXPECT_EQ(pixel(r, gpu::kAovNormal, 41, 24).w, c.right ? 1.0f : 0.0f) << "operation " << c.operation;
+    }
+    Scene plain = loadSceneFromString(
+        sceneXml(R"(<position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/>)", "",
+                 R"(<object><position x="0" y="0" z="0"/><properties><type>sphere</type><radius>1</radius></properties></object>)"),
+        "p.xml");
+    EXPECT_EQ(setObjectField(plain, 0, "operation", 1), "operation applies to csg objects only");
 }
 
 // ---- Shadows ------------------------------------------------------------------

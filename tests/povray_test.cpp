@@ -83,6 +83,7 @@ constexpr int kMaxDepth = 6;
 //   checker                 47.2 dB  0.20  2.2
 //   absorbing_glass_shadows (AbsorbingGlassShadowsOutOfView)
 //                           51.2 dB  0.08  1.3
+//   csg                     50.6 dB  0.11  1.4
 // What is left is sampling noise on silhouettes and shadow edges (16
 // jittered samples here, a regular 4x4 grid in POV-Ray): the difference
 // images show outlines only. Known bugs, put in on one side only
@@ -456,6 +457,34 @@ TEST(PovrayCrossCheck, MetricRejectsKnownBugs) {
         Image ours = renderOurs(scene);
         Image pov = renderPovray(scene, "facing_mirrors.depth_minus_1", povOptions(kMaxDepth - 1));
         EXPECT_FALSE(report("max depth - 1", compare(ours, pov)).ok());
+    }
+}
+
+// The CSG scene against POV-Ray renders of it with one CSG mistake each
+// (on POV-Ray's side only): they must not agree, so the agreement of
+// Scenes/PovrayScene.AgreesWithPovray/csg says the operations and the
+// material rule are right.
+TEST(PovrayCrossCheck, MetricRejectsCsgMistakes) {
+    ASSERT_TRUE(povrayMissing().empty()) << povrayMissing();
+    Scene scene = loadScene(scenePath("csg"));
+    Image ours = renderOurs(scene);
+    auto report = [](const char* what, const Agreement& a) {
+        std::printf("[ povray   ] control, %-26s PSNR %5.2f dB  mean %.3f  worst window %.2f levels\n", what, a.psnr,
+                    a.meanLevels, a.worstWindowLevels);
+        return a;
+    };
+    {
+        // The notch not cut: the blue object's difference taken as a union.
+        Scene wrong = scene;
+        std::get<Csg>(wrong.objects[2].shape).operation = Csg::Operation::Union;
+        EXPECT_FALSE(report("difference as union", compare(ours, renderPovray(wrong, "csg.union", povOptions()))).ok());
+    }
+    {
+        // The drills' own (green) material dropped: every child takes the csg object's.
+        Scene wrong = scene;
+        for (CsgChild& c : std::get<Csg>(wrong.objects[1].shape).children) c.ownMaterial = false;
+        EXPECT_FALSE(
+            report("children's materials lost", compare(ours, renderPovray(wrong, "csg.materials", povOptions()))).ok());
     }
 }
 

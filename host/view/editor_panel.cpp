@@ -177,13 +177,22 @@ std::optional<std::string> setObjectField(Scene& scene, int object, const std::s
         m.ior = value;
         return std::nullopt;
     }
+    if (field == "operation") {
+        // A csg object's operation: 0 union, 1 intersection, 2 difference.
+        Csg* csg = std::get_if<Csg>(&o.shape);
+        if (!csg) return std::string("operation applies to csg objects only");
+        if (value != 0 && value != 1 && value != 2)
+            return std::string("operation must be 0 (union), 1 (intersection) or 2 (difference)");
+        csg->operation = Csg::Operation(int(value));
+        return std::nullopt;
+    }
     if (field == "kt") return unit(m.transmission);
     if (field == "kr") return unit(m.reflection);
     if (field == "ks") return unit(m.specular);
     if (field == "kd") return unit(m.diffuse);
     if (field == "ka") return unit(m.ambient);
     int axis = field == "x" ? 0 : field == "y" ? 1 : field == "z" ? 2 : -1;
-    if (axis < 0) return "unknown field '" + field + "' (ior, kt, kr, ks, kd, ka, x, y, z)";
+    if (axis < 0) return "unknown field '" + field + "' (ior, kt, kr, ks, kd, ka, x, y, z, operation)";
     glm::dvec3 p = shapeReferencePoint(o.shape), target = p;
     target[axis] = value;
     m.checkerOrigin += target - p;

@@ -40,7 +40,8 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state);
 
 // One field of an object, as the panel sets it: ior, kt, kr, ks, kd, ka (the
 // material) or x, y, z (moves the shape so its reference point has that
-// coordinate). Returns an error text for a bad index, field or value.
+// coordinate), or a csg object's operation (0 union, 1 intersection, 2
+// difference). Returns an error text for a bad index, field or value.
 std::optional<std::string> setObjectField(Scene& scene, int object, const std::string& field, double value);
 
 // Moves a shape by `delta` (every point of it).
