@@ -3,7 +3,7 @@
 // -DWHITTED_RAY_QUERY in place of the BVH walk. The renderer builds
 // (host/accel/acceleration_structure.cpp) a TLAS over at most two BLASes:
 // the bounded triangles as native triangles and the other bounded shapes
-// (spheres, cylinders, boxes) as AABBs. Both BLASes list every bounded
+// (spheres, cylinders, boxes, csg objects) as AABBs. Both BLASes list every bounded
 // primitive in the order of the Primitive array, those of the other kind
 // inactive (NaN vertices) or empty (a point box for a triangle: NaN boxes
 // made lavapipe miss them all), so a primitive index from the query IS the

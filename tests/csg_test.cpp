@@ -5,15 +5,15 @@
 // cross-check of nested opaque CSG is tests/povray_scenes/csg.xml
 // (tests/povray_test.cpp), the ray-query path tests/ray_query_test.cpp, the
 // refused input tests/bad_scenes/csg_*.xml.
-#include "scene/scene_loader.h"
-#include "scene/scene_writer.h"
-#include "test_support.h"
-#include "view/editor_panel.h"
-
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <string>
+
+#include "scene/scene_loader.h"
+#include "scene/scene_writer.h"
+#include "test_support.h"
+#include "view/editor_panel.h"
 
 namespace whitted::test {
 namespace {
@@ -30,9 +30,8 @@ std::string sceneXml(const std::string& camera, const std::string& lights, const
 // object's material, one with any keeps its own (defaults for the rest), a
 // nested csg object's material passes to its own children.
 TEST(CsgLoader, PlacesChildrenAndPassesMaterialsDown) {
-    const std::string xml = sceneXml(
-        R"(<position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/>)", "",
-        R"(<object><position x="1" y="2" z="3"/><diffuse_color r="1" g="0" b="0"/>
+    const std::string xml = sceneXml(R"(<position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/>)", "",
+                                     R"(<object><position x="1" y="2" z="3"/><diffuse_color r="1" g="0" b="0"/>
              <properties><type>csg</type><operation>difference</operation><diffuse_coef>0.5</diffuse_coef></properties>
              <objects>
                <object><position x="0" y="0" z="0"/><properties><type>sphere</type><radius>1</radius></properties></object>
@@ -106,7 +105,8 @@ TEST(CsgRender, EachOperationKeepsWhatItShould) {
                <object><position x="0.5" y="0" z="0"/><properties><type>sphere</type><radius>0.8</radius></properties></object>
              </objects></object>)");
     Scene scene = loadSceneFromString(xml, "t.xml");
-    EXPECT_EQ(setObjectField(scene, 0, "operation", 3), "operation must be 0 (union), 1 (intersection) or 2 (difference)");
+    EXPECT_EQ(setObjectField(scene, 0, "operation", 3),
+              "operation must be 0 (union), 1 (intersection) or 2 (difference)");
     struct Case {
         int operation;
         bool left, middle, right;
@@ -114,7 +114,11 @@ TEST(CsgRender, EachOperationKeepsWhatItShould) {
     const Case cases[] = {{0, true, true, true}, {1, false, true, false}, {2, true, false, false}};
     for (const Case& c : cases) {
         ASSERT_EQ(setObjectField(scene, 0, "operation", c.operation), std::nullopt);
-        RenderSettings s{.width = 64, .height = 48, .samplesPerPixel = 1, .maxDepth = 0, .auxiliary = true,
+        RenderSettings s{.width = 64,
+                         .height = 48,
+                         .samplesPerPixel = 1,
+                         .maxDepth = 0,
+                         .auxiliary = true,
                          .antiAliasing = AntiAliasing::Uniform};
         RenderResult r = renderScene(scene, s);
         // The hit mask (w of the normal layer) at x = -1.1, 0.06 and 1.1 in the spheres' plane.
@@ -123,8 +127,9 @@ TEST(CsgRender, EachOperationKeepsWhatItShould) {
         EXPECT_EQ(pixel(r, gpu::kAovNormal, 41, 24).w, c.right ? 1.0f : 0.0f) << "operation " << c.operation;
     }
     Scene plain = loadSceneFromString(
-        sceneXml(R"(<position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/>)", "",
-                 R"(<object><position x="0" y="0" z="0"/><properties><type>sphere</type><radius>1</radius></properties></object>)"),
+        sceneXml(
+            R"(<position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/>)", "",
+            R"(<object><position x="0" y="0" z="0"/><properties><type>sphere</type><radius>1</radius></properties></object>)"),
         "p.xml");
     EXPECT_EQ(setObjectField(plain, 0, "operation", 1), "operation applies to csg objects only");
 }
@@ -163,8 +168,13 @@ TEST(CsgRender, DifferenceCastsTheShadowOfItsShape) {
     };
     for (TracePath trace : {TracePath::Bvh, TracePath::RayQuery}) {
         if (trace == TracePath::RayQuery && !testContext().deviceInfo().rayQuery) continue;
-        RenderSettings s{.width = w, .height = h, .samplesPerPixel = 1, .maxDepth = 0, .auxiliary = true,
-                         .trace = trace, .antiAliasing = AntiAliasing::Uniform};
+        RenderSettings s{.width = w,
+                         .height = h,
+                         .samplesPerPixel = 1,
+                         .maxDepth = 0,
+                         .auxiliary = true,
+                         .trace = trace,
+                         .antiAliasing = AntiAliasing::Uniform};
         RenderResult r = renderXml(xml, s);
         // The camera frame of host/render/gpu_scene.cpp.
         const double tanHalf = std::tan(glm::radians(60.0) / 2.0), aspect = double(w) / h;
@@ -192,9 +202,12 @@ TEST(CsgRender, DifferenceCastsTheShadowOfItsShape) {
                 EXPECT_NEAR(diffuse.r, expected, 1e-4)
                     << (trace == TracePath::Bvh ? "BVH" : "ray query") << ", pixel " << x << "," << y
                     << (blocked ? " should be in shadow" : " should be lit");
-                if (blocked) ++shadowed;
-                else if (std::abs(p.x) < 1.3 && std::abs(p.z) < 1.3) ++litThroughHole;
-                else ++lit;
+                if (blocked)
+                    ++shadowed;
+                else if (std::abs(p.x) < 1.3 && std::abs(p.z) < 1.3)
+                    ++litThroughHole;
+                else
+                    ++lit;
             }
         // The image shows all three: open floor, the slab's shadow, the disc of light through the hole.
         EXPECT_GT(lit, 500);
@@ -258,11 +271,16 @@ TEST(CsgRender, GlassLensFocusesWhereTheThickLensFormulaSays) {
            <object><position x="0" y="0" z=")"
                 << sphereZ << R"("/><diffuse_color r="1" g="0" b="0"/><properties><type>sphere</type><radius>)" << rho
                 << R"(</radius><ambiente_coef>1</ambiente_coef><diffuse_coef>0</diffuse_coef></properties></object>)";
-        std::string xml = "<scene><camera><position x=\"0\" y=\"0\" z=\"30\"/><window_position x=\"0\" y=\"0\" "
-                          "z=\"29\"/><fov>1.6</fov></camera><ambient_light r=\"1\" g=\"1\" b=\"1\"/><lights/>"
-                          "<objects>" +
-                          objects.str() + "</objects></scene>";
-        RenderSettings s{.width = 320, .height = 320, .samplesPerPixel = 1, .maxDepth = 4, .auxiliary = false,
+        std::string xml =
+            "<scene><camera><position x=\"0\" y=\"0\" z=\"30\"/><window_position x=\"0\" y=\"0\" "
+            "z=\"29\"/><fov>1.6</fov></camera><ambient_light r=\"1\" g=\"1\" b=\"1\"/><lights/>"
+            "<objects>" +
+            objects.str() + "</objects></scene>";
+        RenderSettings s{.width = 320,
+                         .height = 320,
+                         .samplesPerPixel = 1,
+                         .maxDepth = 4,
+                         .auxiliary = false,
                          .antiAliasing = AntiAliasing::Uniform};
         RenderResult r = renderXml(xml, s);
         int count = 0, edge = 0;
@@ -277,9 +295,10 @@ TEST(CsgRender, GlassLensFocusesWhereTheThickLensFormulaSays) {
     };
     double r1 = discRadius(z0 - D), r2 = discRadius(z0 + D);
     double focus = (r1 * (z0 - D) + r2 * (z0 + D)) / (r1 + r2);
-    std::printf("[ lens     ] f %.4f, predicted focus z %.4f (thin lens %.4f), disc radii %.2f and %.2f px, "
-                "measured focus z %.4f\n",
-                f, z0, thinZ, r1, r2, focus);
+    std::printf(
+        "[ lens     ] f %.4f, predicted focus z %.4f (thin lens %.4f), disc radii %.2f and %.2f px, "
+        "measured focus z %.4f\n",
+        f, z0, thinZ, r1, r2, focus);
     EXPECT_GT(r1, 20.0);
     EXPECT_GT(r2, 20.0);
     EXPECT_NEAR(focus, z0, 0.015);

@@ -484,7 +484,8 @@ TEST(PovrayCrossCheck, MetricRejectsCsgMistakes) {
         Scene wrong = scene;
         for (CsgChild& c : std::get<Csg>(wrong.objects[1].shape).children) c.ownMaterial = false;
         EXPECT_FALSE(
-            report("children's materials lost", compare(ours, renderPovray(wrong, "csg.materials", povOptions()))).ok());
+            report("children's materials lost", compare(ours, renderPovray(wrong, "csg.materials", povOptions())))
+                .ok());
     }
 }
 

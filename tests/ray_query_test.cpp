@@ -203,8 +203,13 @@ TEST(RayQuery, CsgScenesMatchTheBvh) {
         {"csg", loadScene(sourceDir() / "tests" / "povray_scenes" / "csg.xml")},
         {"csg_glass", loadSceneFromString(glass, "csg_glass.xml")}};
     for (const auto& [name, scene] : scenes) {
-        RenderSettings s{.width = 160, .height = 120, .samplesPerPixel = 4, .maxDepth = 6, .auxiliary = false,
-                         .trace = TracePath::Bvh, .antiAliasing = AntiAliasing::Uniform};
+        RenderSettings s{.width = 160,
+                         .height = 120,
+                         .samplesPerPixel = 4,
+                         .maxDepth = 6,
+                         .auxiliary = false,
+                         .trace = TracePath::Bvh,
+                         .antiAliasing = AntiAliasing::Uniform};
         RenderResult bvh = renderScene(scene, s);
         s.trace = TracePath::RayQuery;
         RenderResult rq = renderScene(scene, s);

@@ -229,15 +229,15 @@ std::vector<std::string> povrayInexactMappings(const Scene& scene) {
         std::vector<const Material*> used = {&object.material};
         if (const Csg* csg = std::get_if<Csg>(&object.shape)) csgMaterials(*csg, used);
         for (const Material* material : used) {
-        const Material& m = *material;
-        if (m.specular > 0.0 && !isGrey(m.specularColor))
-            notes.push_back(where(scene, object) +
-                            ": a Phong highlight with a coloured specular_color (POV-Ray's phong highlight takes "
-                            "the light's colour; exported as ks times the mean of Cs)");
-        if (m.transmission > 0.0)
-            notes.push_back(where(scene, object) +
-                            ": transmission (POV-Ray dims the local terms by the pigment's opacity and filters "
-                            "refracted light by the pigment; exported approximately, its shadows exactly)");
+            const Material& m = *material;
+            if (m.specular > 0.0 && !isGrey(m.specularColor))
+                notes.push_back(where(scene, object) +
+                                ": a Phong highlight with a coloured specular_color (POV-Ray's phong highlight takes "
+                                "the light's colour; exported as ks times the mean of Cs)");
+            if (m.transmission > 0.0)
+                notes.push_back(where(scene, object) +
+                                ": transmission (POV-Ray dims the local terms by the pigment's opacity and filters "
+                                "refracted light by the pigment; exported approximately, its shadows exactly)");
         }
     }
     return notes;

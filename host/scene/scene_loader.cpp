@@ -571,8 +571,8 @@ private:
         if (std::find(kTypeNames.begin(), kTypeNames.end(), type) == kTypeNames.end())
             diag_.fail(typeElement, "<type> must be " + joined(kTypeNames, " or ") + ", got " + inQuotes(type));
         if (csg && std::find(kCsgChildTypes.begin(), kCsgChildTypes.end(), type) == kCsgChildTypes.end())
-            diag_.fail(typeElement, "a csg child cannot be of type " + type + "; it must be a closed solid: " +
-                                        joined(kCsgChildTypes, " or "));
+            diag_.fail(typeElement, "a csg child cannot be of type " + type +
+                                        "; it must be a closed solid: " + joined(kCsgChildTypes, " or "));
         if (csg && type == "csg" && csg->depth + 1 > int(kCsgMaxDepth))
             diag_.fail(e, "csg objects nested " + std::to_string(csg->depth + 1) + " deep; at most " +
                               std::to_string(kCsgMaxDepth) + " levels (the shader's evaluation stack)");
@@ -632,17 +632,22 @@ private:
         const XMLElement* operation = properties.optional("operation");
         if (!operation) diag_.fail(e, "<object> is missing <operation> (required for type csg)");
         std::string op = valueText(operation);
-        if (op == "union") csg.operation = Csg::Operation::Union;
-        else if (op == "intersection") csg.operation = Csg::Operation::Intersection;
-        else if (op == "difference") csg.operation = Csg::Operation::Difference;
-        else diag_.fail(operation, "<operation> must be union, intersection or difference, got " + inQuotes(op));
+        if (op == "union")
+            csg.operation = Csg::Operation::Union;
+        else if (op == "intersection")
+            csg.operation = Csg::Operation::Intersection;
+        else if (op == "difference")
+            csg.operation = Csg::Operation::Difference;
+        else
+            diag_.fail(operation, "<operation> must be union, intersection or difference, got " + inQuotes(op));
         const XMLElement* position = object.optional("position");
         csg.position = origin + (position ? vector(position) : glm::dvec3(0));
         const XMLElement* objectsElement = object.optional("objects");
         if (!objectsElement) diag_.fail(e, "<object> is missing <objects> (required for type csg)");
         ElementReader objects(diag_, objectsElement, {{"object", true}});
         if (objects.all("object").size() < 2)
-            diag_.fail(objectsElement, "<objects> of a csg object holds " + std::to_string(objects.all("object").size()) +
+            diag_.fail(objectsElement, "<objects> of a csg object holds " +
+                                           std::to_string(objects.all("object").size()) +
                                            " <object>; a csg object needs at least two");
         CsgParent parent{csg.position, &material, depth};
         for (const XMLElement* child : objects.all("object")) {

@@ -75,7 +75,9 @@ void writeTriangleVertices(XmlOut& x, const Triangle& t, const glm::dvec3& origi
 // material written only when it has its own.
 void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin);
 
-void writeObject(XmlOut& x, const Object& o) { writeObject(x, o.shape, o.material, true, glm::dvec3(0)); }
+void writeObject(XmlOut& x, const Object& o) {
+    writeObject(x, o.shape, o.material, true, glm::dvec3(0));
+}
 
 void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin) {
     x.open("object");

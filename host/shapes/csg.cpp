@@ -3,10 +3,10 @@
 // primitive (tag kShapeCsg) in the BVH, its leaf shapes ordinary primitives
 // stored after every other (gpu_scene.cpp), and its tree a postfix program
 // of CsgNodes (device_types.h).
-#include "shapes/shapes.h"
-
 #include <stdexcept>
 #include <type_traits>
+
+#include "shapes/shapes.h"
 
 namespace whitted {
 
@@ -18,9 +18,12 @@ namespace {
 
 uint32_t operationCode(Csg::Operation op) {
     switch (op) {
-        case Csg::Operation::Union: return gpu::kCsgUnion;
-        case Csg::Operation::Intersection: return gpu::kCsgIntersection;
-        case Csg::Operation::Difference: return gpu::kCsgDifference;
+        case Csg::Operation::Union:
+            return gpu::kCsgUnion;
+        case Csg::Operation::Intersection:
+            return gpu::kCsgIntersection;
+        case Csg::Operation::Difference:
+            return gpu::kCsgDifference;
     }
     throw std::logic_error("unknown csg operation");
 }
@@ -102,7 +105,12 @@ gpu::Primitive packCsg(const Csg& csg, uint32_t material, CsgArrays& arrays) {
     emitCsg(csg, material, firstLeaf, arrays);
     uint32_t leafCount = uint32_t(arrays.leaves.size()) - firstLeaf;
     if (leafCount > gpu::kCsgMaxLeaves) throw std::logic_error("csg object beyond kCsgMaxLeaves");
+    // Padded by a few float ulps as the BVH's bounds are (gpu_scene.cpp):
+    // intersectCsg tests them against float-rounded leaves.
     Aabb b = boundsCsg(csg);
+    glm::vec3 pad = 1e-6f * (glm::abs(b.min) + glm::abs(b.max)) + 1e-30f;
+    b.min -= pad;
+    b.max += pad;
     return {.a = glm::vec4(b.min, glm::uintBitsToFloat(firstLeaf)),
             .b = glm::vec4(b.max, glm::uintBitsToFloat(leafCount)),
             .c = glm::vec4(0),
