@@ -5,10 +5,15 @@
 // cross-check of nested opaque CSG is tests/povray_scenes/csg.xml
 // (tests/povray_test.cpp), the ray-query path tests/ray_query_test.cpp, the
 // refused input tests/bad_scenes/csg_*.xml.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <optional>
+#include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
@@ -132,6 +137,242 @@ TEST(CsgRender, EachOperationKeepsWhatItShould) {
             R"(<object><position x="0" y="0" z="0"/><properties><type>sphere</type><radius>1</radius></properties></object>)"),
         "p.xml");
     EXPECT_EQ(setObjectField(plain, 0, "operation", 1), "operation applies to csg objects only");
+}
+
+// ---- Random trees against a double-precision reference --------------------------------
+
+// The span of the ray o + t d inside a convex leaf, in double precision, or
+// nothing: sphere by its quadratic, box by slabs, capped cylinder as the
+// intersection of the infinite cylinder's span and the slab between its caps.
+std::optional<std::pair<double, double>> leafSpan(const Shape& shape, const glm::dvec3& o, const glm::dvec3& d) {
+    static constexpr double kInf = std::numeric_limits<double>::infinity();
+    auto slab = [](double origin, double dir, double lo, double hi) -> std::pair<double, double> {
+        if (dir == 0) return origin > lo && origin < hi ? std::pair{-kInf, kInf} : std::pair{kInf, -kInf};
+        double a = (lo - origin) / dir, b = (hi - origin) / dir;
+        return {std::min(a, b), std::max(a, b)};
+    };
+    std::pair<double, double> span{-kInf, kInf};
+    if (const Sphere* s = std::get_if<Sphere>(&shape)) {
+        glm::dvec3 f = o - s->center;
+        double b = glm::dot(f, d), disc = b * b - (glm::dot(f, f) - s->radius * s->radius);
+        if (disc <= 0) return std::nullopt;
+        span = {-b - std::sqrt(disc), -b + std::sqrt(disc)};
+    } else if (const Box* box = std::get_if<Box>(&shape)) {
+        for (int i = 0; i < 3; ++i) {
+            auto [a, b] = slab(o[i], d[i], box->min[i], box->max[i]);
+            span = {std::max(span.first, a), std::min(span.second, b)};
+        }
+    } else {
+        const Cylinder& c = std::get<Cylinder>(shape);
+        glm::dvec3 f = o - c.base;
+        double oa = glm::dot(f, c.axis), da = glm::dot(d, c.axis);
+        span = slab(oa, da, 0.0, c.height);
+        glm::dvec3 op = f - oa * c.axis, dp = d - da * c.axis;
+        double a = glm::dot(dp, dp), b = glm::dot(op, dp), cc = glm::dot(op, op) - c.radius * c.radius;
+        double disc = b * b - a * cc;
+        if (disc <= 0 || a == 0) return std::nullopt;
+        span = {std::max(span.first, (-b - std::sqrt(disc)) / a), std::min(span.second, (-b + std::sqrt(disc)) / a)};
+    }
+    if (!(span.first < span.second)) return std::nullopt;
+    return span;
+}
+
+// Point membership by the tree itself (not the shader's postfix program):
+// union = any child, intersection = all, difference = the first and none of
+// the others. `inLeaf` says whether p is in each leaf, in leaf order.
+bool contains(const Csg& csg, const std::vector<bool>& inLeaf, size_t& next) {
+    std::vector<bool> in;
+    for (const CsgChild& c : csg.children)
+        in.push_back(std::holds_alternative<Csg>(c.shape) ? contains(std::get<Csg>(c.shape), inLeaf, next)
+                                                          : bool(inLeaf[next++]));
+    switch (csg.operation) {
+        case Csg::Operation::Union:
+            return std::find(in.begin(), in.end(), true) != in.end();
+        case Csg::Operation::Intersection:
+            return std::find(in.begin(), in.end(), false) == in.end();
+        case Csg::Operation::Difference:
+            return in[0] && std::find(in.begin() + 1, in.end(), true) == in.end();
+    }
+    return false;
+}
+
+void collectLeaves(const Csg& csg, std::vector<const Shape*>& out) {
+    for (const CsgChild& c : csg.children)
+        if (const Csg* nested = std::get_if<Csg>(&c.shape))
+            collectLeaves(*nested, out);
+        else
+            out.push_back(&c.shape);
+}
+
+// What the reference sees along one camera ray: the first crossing of the
+// solid's surface (t, leaf) or none; `clear` is false when another span end
+// lies within 1e-4 of it (coincident or tangent surfaces: no single answer).
+struct Reference {
+    bool hit = false;
+    double t = 0;
+    int leaf = -1;
+    bool clear = true;
+};
+
+Reference referenceHit(const Csg& csg, const std::vector<const Shape*>& leaves, const glm::dvec3& o,
+                       const glm::dvec3& d) {
+    std::vector<std::optional<std::pair<double, double>>> spans;
+    std::vector<std::pair<double, int>> ends;
+    for (size_t j = 0; j < leaves.size(); ++j) {
+        spans.push_back(leafSpan(*leaves[j], o, d));
+        if (spans[j] && spans[j]->first > 0) ends.push_back({spans[j]->first, int(j)});
+        if (spans[j] && spans[j]->second > 0) ends.push_back({spans[j]->second, int(j)});
+    }
+    std::sort(ends.begin(), ends.end());
+    auto solidAt = [&](double t) {
+        std::vector<bool> in;
+        for (const auto& s : spans) in.push_back(s && s->first < t && t < s->second);
+        size_t next = 0;
+        return contains(csg, in, next);
+    };
+    Reference r;
+    bool before = solidAt(ends.empty() ? 1.0 : ends.front().first * 0.5);
+    for (size_t k = 0; k < ends.size(); ++k) {
+        double after = k + 1 < ends.size() ? 0.5 * (ends[k].first + ends[k + 1].first) : ends[k].first + 1.0;
+        if (solidAt(after) == before) continue;
+        r.hit = true;
+        r.t = ends[k].first;
+        r.leaf = ends[k].second;
+        r.clear = (k == 0 || ends[k].first - ends[k - 1].first > 1e-4) &&
+                  (k + 1 == ends.size() || ends[k + 1].first - ends[k].first > 1e-4);
+        break;
+    }
+    return r;
+}
+
+// A random csg tree of spheres, boxes and cylinders in [-1, 1]^3, each leaf
+// with a colour of its own (ambient only, so a pixel shows the leaf it
+// sees), nested csg objects at random offsets.
+std::string randomCsgXml(std::mt19937& rng, int depth, int& leaves, const glm::dvec3& offset) {
+    std::uniform_real_distribution<double> u(-1, 1), size(0.5, 1.0);
+    // Unions half the time: a random intersection or difference is often small.
+    std::discrete_distribution<int> op({2, 1, 1});
+    std::uniform_int_distribution<int> kids(2, 3), shape(0, 2);
+    auto vec = [](const char* tag, const glm::dvec3& v) {
+        std::ostringstream s;
+        s.precision(17);
+        s << "<" << tag << " x=\"" << v.x << "\" y=\"" << v.y << "\" z=\"" << v.z << "\"/>";
+        return s.str();
+    };
+    static const char* kOps[] = {"union", "intersection", "difference"};
+    std::ostringstream s;
+    s << "<object>" << vec("position", offset) << "<properties><type>csg</type><operation>" << kOps[op(rng)]
+      << "</operation></properties><objects>";
+    int n = kids(rng);
+    for (int k = 0; k < n; ++k) {
+        if (depth < 3 && leaves + 4 <= 16 && std::uniform_real_distribution<double>(0, 1)(rng) < 0.35) {
+            glm::dvec3 shift(0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng));
+            s << randomCsgXml(rng, depth + 1, leaves, shift);
+            continue;
+        }
+        int id = leaves++;
+        glm::dvec3 colour((id % 4 + 1) / 4.0, (id / 4 % 4 + 1) / 4.0, 0.5);
+        glm::dvec3 p(0.5 * u(rng), 0.5 * u(rng), 0.5 * u(rng));
+        std::ostringstream c;
+        c << "<diffuse_color r=\"" << colour.r << "\" g=\"" << colour.g << "\" b=\"" << colour.b << "\"/>";
+        std::string material = "<ambiente_coef>1</ambiente_coef><diffuse_coef>0</diffuse_coef>";
+        switch (shape(rng)) {
+            case 0:
+                s << "<object>" << vec("position", p) << c.str() << "<properties><type>sphere</type><radius>"
+                  << size(rng) << "</radius>" << material << "</properties></object>";
+                break;
+            case 1:
+                s << "<object>" << vec("position", p - 0.5) << c.str() << "<properties><type>box</type>"
+                  << vec("size", glm::dvec3(size(rng), size(rng), size(rng)) * 1.4) << material
+                  << "</properties></object>";
+                break;
+            default:
+                s << "<object>" << vec("position", p - glm::dvec3(0, 0.6, 0)) << c.str()
+                  << "<properties><type>cylinder</type><radius>" << 0.5 * size(rng) << "</radius><height>"
+                  << 2 * size(rng) << "</height>" << vec("axis", glm::dvec3(u(rng), 1.5, u(rng))) << material
+                  << "</properties></object>";
+        }
+    }
+    return s.str() + "</objects></object>";
+}
+
+// Random nested trees rendered with one camera sample per pixel centre: at
+// every pixel whose answer is clear (the reference's crossing has no other
+// span end within 1e-4, and its four neighbours see the same leaf at a
+// depth within 0.05, so no silhouette or depth step passes through it), the
+// hit mask, the depth (within 1e-4 relative: float against double) and the
+// leaf struck (its colour) must be the reference's. Both tracing paths.
+TEST(CsgRender, RandomTreesMatchADoublePrecisionReference) {
+    std::mt19937 rng(20261201);
+    const int w = 80, h = 60;
+    const glm::dvec3 eye(0.4, 0.7, 5), target(0, 0, 0);
+    int compared = 0, hits = 0;
+    for (int tree = 0; tree < 16; ++tree) {
+        int leaves = 0;
+        std::string object = randomCsgXml(rng, 1, leaves, glm::dvec3(0));
+        std::string xml = sceneXml(R"(<position x="0.4" y="0.7" z="5"/><window_position x="0.32" y="0.56" z="4.01"/>)"
+                                   R"(<fov>28</fov>)",
+                                   "", object);
+        xml.replace(xml.find("<lights>"), 0, R"(<ambient_light r="1" g="1" b="1"/>)");
+        Scene scene = loadSceneFromString(xml, "random.xml");
+        const Csg& csg = std::get<Csg>(scene.objects[0].shape);
+        std::vector<const Shape*> leafShapes;
+        collectLeaves(csg, leafShapes);
+        ASSERT_EQ(int(leafShapes.size()), leaves);
+
+        const Camera& cam = scene.camera;
+        const double tanHalf = std::tan(glm::radians(cam.verticalFovDegrees) / 2.0), aspect = double(w) / h;
+        const glm::dvec3 forward = glm::normalize(cam.windowCenter - cam.eye);
+        const glm::dvec3 right = glm::normalize(glm::cross(forward, cam.up));
+        const glm::dvec3 up = glm::cross(right, forward);
+        std::vector<Reference> refs(size_t(w) * h);
+        std::vector<glm::dvec3> dirs(refs.size());
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                glm::dvec3 d = glm::normalize(forward + (2.0 * (x + 0.5) / w - 1.0) * tanHalf * aspect * right +
+                                              (1.0 - 2.0 * (y + 0.5) / h) * tanHalf * up);
+                refs[size_t(y) * w + x] = referenceHit(csg, leafShapes, cam.eye, d);
+            }
+        int treeHits = 0;
+        for (TracePath trace : {TracePath::Bvh, TracePath::RayQuery}) {
+            if (trace == TracePath::RayQuery && !testContext().deviceInfo().rayQuery) continue;
+            RenderSettings s{.width = w,
+                             .height = h,
+                             .samplesPerPixel = 1,
+                             .maxDepth = 0,
+                             .auxiliary = true,
+                             .trace = trace,
+                             .antiAliasing = AntiAliasing::Uniform};
+            RenderResult r = renderScene(scene, s);
+            for (int y = 1; y + 1 < h; ++y)
+                for (int x = 1; x + 1 < w; ++x) {
+                    const Reference& ref = refs[size_t(y) * w + x];
+                    bool clear = ref.clear;
+                    for (auto [dx, dy] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+                        const Reference& n = refs[size_t(y + dy) * w + x + dx];
+                        clear = clear && n.clear && n.hit == ref.hit && n.leaf == ref.leaf &&
+                                (!ref.hit || std::abs(n.t - ref.t) < 0.05);
+                    }
+                    if (!clear) continue;
+                    ++compared;
+                    hits += ref.hit ? 1 : 0;
+                    treeHits += ref.hit ? 1 : 0;
+                    std::string where = std::string(trace == TracePath::Bvh ? "BVH" : "ray query") + ", tree " +
+                                        std::to_string(tree) + ", pixel " + std::to_string(x) + "," + std::to_string(y);
+                    ASSERT_EQ(pixel(r, gpu::kAovNormal, x, y).w, ref.hit ? 1.0f : 0.0f) << where;
+                    if (!ref.hit) continue;
+                    // Depth is the distance along the unit camera ray.
+                    EXPECT_NEAR(pixel(r, gpu::kAovCoefs0, x, y).w, ref.t, 1e-4 * ref.t) << where;
+                    glm::vec4 c = pixel(r, gpu::kAovColor, x, y);
+                    int leaf = int(std::lround(c.r * 4 - 1)) + 4 * int(std::lround(c.g * 4 - 1));
+                    EXPECT_EQ(leaf, ref.leaf) << where;
+                }
+        }
+        std::printf("[ csg      ] tree %d: %d leaves, %d clear pixels on the solid\n", tree, leaves, treeHits);
+    }
+    std::printf("[ csg      ] random trees: %d clear pixels compared, %d of them on the solid\n", compared, hits);
+    EXPECT_GT(hits, 2000);
+    EXPECT_GT(compared - hits, 2000);
 }
 
 // ---- Shadows ------------------------------------------------------------------
