@@ -52,7 +52,12 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--aov", render.aovs,
                           "auxiliary images: all, none, or a list of ambient,diffuse,specular,reflection,"
                           "transmission,ambient_coef,diffuse_coef,specular_coef,reflection_coef,"
-                          "transmission_coef,ior,depth,normal")->capture_default_str();
+                          "transmission_coef,ior,depth,normal; with --aov-bounces B also reflection.1..B and "
+                          "transmission.1..B")->capture_default_str();
+    renderCmd->add_option("--aov-bounces", render.settings.aovBounces,
+                          "split the reflection and transmission images by ray depth into B images each "
+                          "(reflection.K: rays at depth K of the reflected subtree; the last holds all deeper ones)")
+        ->check(CLI::Range(0, int(gpu::kAovBouncesMax)))->capture_default_str();
     renderCmd->add_option("--tonemap", tonemap, "clamp (sRGB) or seed (min-max normalisation, gamma 0.667)")
         ->check(CLI::IsMember({"clamp", "seed"}))->capture_default_str();
     renderCmd->add_option("--device", render.device,

@@ -58,7 +58,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
     // Everything that can be refused is refused before the device starts.
     std::vector<std::string> aovs;
     try {
-        aovs = parseAovList(options.aovs);
+        aovs = parseAovList(options.aovs, options.settings.aovBounces);
     } catch (const std::invalid_argument& e) {
         std::cerr << "whitted: --aov: " << e.what() << " (see whitted render --help)\n";
         return kExitBadInput;
@@ -81,6 +81,8 @@ int runRenderCommand(const RenderCommandOptions& options) {
 
     RenderSettings settings = options.settings;
     settings.auxiliary = !aovs.empty();
+    // Split layers only when a split image is written (they cost memory and bandwidth).
+    if (!hasSplitAov(aovs)) settings.aovBounces = 0;
     // One context and renderer per device: --device all, or a list such as
     // 0,1 (the same device may be named twice, which tests the sharing).
     std::vector<std::unique_ptr<VulkanContext>> contexts;
