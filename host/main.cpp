@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
     std::string output;
     std::string tonemap = "clamp";
     auto* renderCmd = app.add_subcommand("render", "render a scene file to images");
-    renderCmd->add_option("scene", render.scene, "scene XML file")->required();
+    renderCmd->add_option("scene", render.scene,
+                          "scene XML file (.xml), or a model file (any other extension: a quick look)")->required();
     renderCmd->add_option("-o,--output", output,
                           "image to write (.png, .exr, ...); auxiliary images go beside it. "
                           "Default: a new folder under renders/");
@@ -78,7 +79,9 @@ int main(int argc, char** argv) {
     ViewOptions view;
     view.settings.samplesPerPixel = 256;
     auto* viewCmd = app.add_subcommand("view", "open a scene in a live window (README \"Live window\")");
-    viewCmd->add_option("scene", view.scene, "scene XML file")->required();
+    viewCmd->add_option("scene", view.scene,
+                        "scene XML file (.xml), or a model file (a quick look; Ctrl+S writes MODEL.whitted.xml)")
+        ->required();
     viewCmd->add_option("--width", view.settings.width, "image width in pixels [scene's]")->check(CLI::Range(1, 16384));
     viewCmd->add_option("--height", view.settings.height, "image height in pixels [scene's]")->check(CLI::Range(1, 16384));
     viewCmd->add_option("--spp", view.settings.samplesPerPixel, "sample budget per pixel; tracing stops there")

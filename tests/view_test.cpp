@@ -269,6 +269,25 @@ TEST(View, RealInputDrivesCameraAndPanel) {
     EXPECT_EQ(saved.objects[6].material.transmission, 0.8);
 }
 
+// A quick look of a model file: Ctrl+S (save_scene) writes the generated
+// scene beside the model, never over it; that scene renders what the window
+// showed, and what `render MODEL` gives.
+TEST(View, QuickLookSavesTheSceneBesideTheModel) {
+    fs::path dir = scratchDir("quick_look");
+    fs::copy_file(sourceDir() / "tests" / "meshes" / "pyramid.obj", dir / "pyramid.obj");
+    std::string model = readText(dir / "pyramid.obj");
+    writeText(dir / "script.txt", "spp 4\nscreenshot view.png\nsave_scene\nquit\n");
+    CommandRun view = runView("pyramid.obj " + std::string(kSmall) + " --script script.txt", dir);
+    ASSERT_EQ(view.status, 0) << view.output;
+    EXPECT_NE(view.output.find("saved scene to pyramid.obj.whitted.xml"), std::string::npos) << view.output;
+    EXPECT_EQ(readText(dir / "pyramid.obj"), model);
+    ASSERT_TRUE(fs::exists(dir / "pyramid.obj.whitted.xml"));
+    ASSERT_EQ(runRender("pyramid.obj.whitted.xml " + std::string(kSmall) + " --aov none -o saved.png", dir).status, 0);
+    ASSERT_EQ(runRender("pyramid.obj " + std::string(kSmall) + " --aov none -o model.png", dir).status, 0);
+    EXPECT_EQ(compareRgb(readPng(dir / "saved.png"), readPng(dir / "model.png")).maxLevels, 0);
+    EXPECT_LE(compareRgb(readPng(dir / "view.png"), readPng(dir / "saved.png")).maxLevels, 1);
+}
+
 TEST(View, BadInputExitsBeforeOpeningAWindow) {
     fs::path dir = scratchDir("bad");
     CommandRun missing = runCommand("'" WHITTED_EXECUTABLE "' view no_such.xml", dir);
@@ -355,6 +374,8 @@ TEST(SceneWriter, RoundTripGivesEqualScene) {
                         expectClose(s.max, t.max, what);
                     } else {
                         ASSERT_EQ(s.triangles.size(), t.triangles.size());
+                        EXPECT_EQ(s.normals.size(), t.normals.size());
+                        EXPECT_EQ(s.source.has_value(), t.source.has_value()) << "a model file is written as <file>";
                         for (size_t k = 0; k < s.triangles.size(); ++k) {
                             EXPECT_EQ(s.triangles[k].v0, t.triangles[k].v0);
                             EXPECT_EQ(s.triangles[k].v1, t.triangles[k].v1);

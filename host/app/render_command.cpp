@@ -1,11 +1,13 @@
 // `whitted render`: load, check outputs, render with progress, write files.
 #include "app/commands.h"
 #include "app/progress_bar.h"
+#include "app/quick_look.h"
 #include "io/image_io.h"
 #include "io/render_record.h"
 #include "render/multi_device.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
+#include "scene/scene_writer.h"
 #include "vk/context.h"
 
 #include <chrono>
@@ -66,7 +68,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
     Scene scene;
     auto loadStart = std::chrono::steady_clock::now();
     try {
-        scene = loadScene(options.scene);
+        scene = loadSceneOrModel(options.scene);  // a model file: a quick look
     } catch (const SceneError& e) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
@@ -147,7 +149,10 @@ int runRenderCommand(const RenderCommandOptions& options) {
         try {
             shown = writeHistoryFolder(options.historyRoot, [&](const std::filesystem::path& staging) {
                 if (!renderInto(staging / "image.png")) throw ValidationFailed{};
-                std::filesystem::copy_file(options.scene, staging / "scene.xml");
+                if (isSceneFile(options.scene))
+                    std::filesystem::copy_file(options.scene, staging / "scene.xml");
+                else  // a quick look: the scene built for the model
+                    writeSceneFile(scene, staging / "scene.xml");
                 files.push_back(staging / "scene.xml");
                 writeTextFile(staging / "render.json", recordJson());
             });

@@ -55,15 +55,31 @@ void writeTriangleVertices(XmlOut& x, const Triangle& t, const glm::dvec3& origi
     x.vector("vertex", t.v2 - origin);
 }
 
-void writeObject(XmlOut& x, const Object& o) {
+// The <file> of a mesh read from a model file: relative to the folder the
+// scene is written to (absolute when that is unknown or on another root).
+std::string meshFileText(const Mesh::FileSource& source, const std::filesystem::path& destination) {
+    if (destination.empty()) return source.path.string();
+    std::filesystem::path folder = std::filesystem::absolute(destination).parent_path();
+    std::filesystem::path relative = source.path.lexically_relative(folder);
+    std::string text = relative.empty() ? source.path.string() : relative.generic_string();
+    std::string escaped;
+    for (char c : text) escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : std::string(1, c);
+    return escaped;
+}
+
+void writeObject(XmlOut& x, const Object& o, const std::filesystem::path& destination) {
     const Material& m = o.material;
+    const Mesh* mesh = std::get_if<Mesh>(&o.shape);
+    const Mesh::FileSource* source = mesh && mesh->source ? &*mesh->source : nullptr;
     x.open("object");
     // Triangles and meshes are written in world space without a position,
     // unless their checker is anchored elsewhere: then at the checker's
     // origin, vertices relative to it.
     bool hasVertices = std::holds_alternative<Triangle>(o.shape) || std::holds_alternative<Mesh>(o.shape);
     glm::dvec3 vertexOrigin(0);
-    if (hasVertices && m.checkerSize > 0 && m.checkerOrigin != glm::dvec3(0)) {
+    if (source) {
+        x.vector("position", source->position);  // a model file: its placement, not its triangles
+    } else if (hasVertices && m.checkerSize > 0 && m.checkerOrigin != glm::dvec3(0)) {
         vertexOrigin = m.checkerOrigin;
         x.vector("position", vertexOrigin);
     }
@@ -113,6 +129,10 @@ void writeObject(XmlOut& x, const Object& o) {
                 writeTriangleVertices(x, s, vertexOrigin);
             } else if constexpr (std::is_same_v<T, Box>) {
                 x.vector("size", s.max - s.min);
+            } else if (source) {
+                x.value("file", meshFileText(*source, destination));
+                if (source->scale != glm::dvec3(1)) x.vector("scale", source->scale);
+                if (source->rotationDegrees != glm::dvec3(0)) x.vector("rotation", source->rotationDegrees);
             } else {
                 x.open("polygons");
                 for (const Triangle& t : s.triangles) {
@@ -139,7 +159,7 @@ std::string sceneCameraXml(const Camera& camera, int indent) {
     return x.str();
 }
 
-std::string sceneXml(const Scene& scene) {
+std::string sceneXml(const Scene& scene, const std::filesystem::path& destination) {
     XmlOut x;
     x.line("<?xml version=\"1.0\" encoding=\"utf-8\"?>");
     x.open("scene");
@@ -154,14 +174,14 @@ std::string sceneXml(const Scene& scene) {
     }
     x.close("lights");
     x.open("objects");
-    for (const Object& o : scene.objects) writeObject(x, o);
+    for (const Object& o : scene.objects) writeObject(x, o, destination);
     x.close("objects");
     x.close("scene");
     return x.str();
 }
 
 void writeSceneFile(const Scene& scene, const std::filesystem::path& path) {
-    writeTextFile(path, sceneXml(scene));
+    writeTextFile(path, sceneXml(scene, path));
 }
 
 }  // namespace whitted

@@ -200,12 +200,14 @@ void translateShape(Shape& shape, const glm::dvec3& d) {
             } else if constexpr (std::is_same_v<T, Box>) {
                 s.min += d;
                 s.max += d;
-            } else
+            } else {
                 for (Triangle& t : s.triangles) {
                     t.v0 += d;
                     t.v1 += d;
                     t.v2 += d;
                 }
+                if (s.source) s.source->position += d;
+            }
         },
         shape);
 }

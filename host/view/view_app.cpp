@@ -299,6 +299,7 @@ void ViewApp::flyFromKeys(double seconds) {
 // A changed file is loaded in full; a refused one leaves the last good scene
 // in place and its FILE:LINE message on screen until a good version arrives.
 void ViewApp::checkReload() {
+    if (options_.sceneOut) return;  // a quick look: the model file is not a scene to reload
     std::optional<std::string> text = watcher_.poll();
     if (!text) return;
     ++reloadCount_;
@@ -352,11 +353,12 @@ void ViewApp::saveImages() {
 void ViewApp::saveScene() {
     Scene shown = scene_;
     shown.camera = camera_.camera();
-    std::string text = sceneXml(shown);
-    writeTextFile(options_.scene, text);
-    watcher_.markSeen(text);
-    overlay_.status = "saved " + options_.scene.string();
-    log("saved scene to " + options_.scene.string());
+    const std::filesystem::path& target = options_.sceneOut ? *options_.sceneOut : options_.scene;
+    std::string text = sceneXml(shown, target);
+    writeTextFile(target, text);
+    if (!options_.sceneOut) watcher_.markSeen(text);
+    overlay_.status = "saved " + target.string();
+    log("saved scene to " + target.string());
 }
 
 void ViewApp::writeScreenshot(const std::filesystem::path& path, bool window) {
