@@ -211,6 +211,38 @@ TEST(View, EditorEditAndSave) {
     EXPECT_GT(compareRgb(ior1, readPng(dir / "before.png")).meanLevels, 0.05) << "the IOR edit changed nothing";
 }
 
+// The panel's checker and absorption fields (the script's `edit` does what
+// the panel does): a checker added to the back wall, its colour changed, the
+// glass sphere given an absorption; the saved file holds them and renders
+// what the window showed. The panel is shown with the sphere selected.
+TEST(View, EditorCheckerAndAbsorption) {
+    fs::path dir = scratchDir("editor_checker");
+    writeText(dir / "scene.xml", readText(room()));
+    writeText(dir / "script.txt",
+              "spp 4\nscreenshot before.png\nedit 0 checker_size 0.5\nedit 0 checker_g 0.1\n"
+              "edit 6 absorption_r 0.5\nedit 6 absorption_g 3\nedit 6 absorption_b 3\nselect object 6\nspp 4\n"
+              "screenshot edited.png\nwindow_screenshot panel.png\nsave_scene\nquit\n");
+    CommandRun view = runView("scene.xml " + std::string(kSmall) + " --script script.txt", dir);
+    ASSERT_EQ(view.status, 0) << view.output;
+    Scene original = loadScene(room());
+    Scene saved = loadScene(dir / "scene.xml");
+    ASSERT_EQ(saved.objects.size(), 9u);
+    EXPECT_EQ(original.objects[0].material.checkerSize, 0.0);
+    EXPECT_EQ(saved.objects[0].material.checkerSize, 0.5);
+    EXPECT_EQ(saved.objects[0].material.checkerColor, glm::dvec3(1, 0.1, 1));
+    EXPECT_EQ(saved.objects[6].material.absorption, glm::dvec3(0.5, 3, 3));
+    ASSERT_EQ(runRender("scene.xml " + std::string(kSmall) + " --aov none -o saved.png", dir).status, 0);
+    Image8 edited = readPng(dir / "edited.png");
+    EXPECT_LE(compareRgb(edited, readPng(dir / "saved.png")).maxLevels, 1);
+    EXPECT_GT(compareRgb(edited, readPng(dir / "before.png")).meanLevels, 1.0) << "the edits changed nothing";
+    EXPECT_TRUE(fs::exists(dir / "panel.png"));
+
+    writeText(dir / "bad.txt", "edit 6 absorption_g -1\n");
+    CommandRun bad = runView("scene.xml " + std::string(kSmall) + " --script bad.txt", dir);
+    EXPECT_NE(bad.status, 0);
+    EXPECT_NE(bad.output.find("bad.txt:1: edit: absorption_g must be in [0, 1e6]"), std::string::npos) << bad.output;
+}
+
 // Auxiliary images on screen match the files `render` writes, and the save
 // key fills a history folder like `render` does.
 TEST(View, AuxiliaryLayersAndSave) {
