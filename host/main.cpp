@@ -88,6 +88,9 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 65536))->capture_default_str();
     viewCmd->add_option("--max-depth", view.settings.maxDepth, "secondary bounces")
         ->check(CLI::Range(0, int(gpu::kMaxDepthLimit)))->capture_default_str();
+    viewCmd->add_option("--aov-bounces", view.settings.aovBounces,
+                        "also show reflection and transmission split by ray depth into B images each (L cycles)")
+        ->check(CLI::Range(0, int(gpu::kAovBouncesMax)))->capture_default_str();
     viewCmd->add_option("--frames", view.frames, "close after N frames [until the window is closed]")->check(CLI::NonNegativeNumber);
     viewCmd->add_option("--screenshot", view.screenshot, "write the image shown as PNG when closing");
     viewCmd->add_option("--script", view.script, "timed input commands (see host/view/view_script.h)");

@@ -263,6 +263,27 @@ TEST(View, AuxiliaryLayersAndSave) {
     EXPECT_LE(compareRgb(readPng(entries[0] / "image.png"), readPng(dir / "r.png")).maxLevels, 1);
 }
 
+// --aov-bounces in the window: the split images are in the L list and show
+// what `render` writes for them; P saves them too.
+TEST(View, SplitReflectionImages) {
+    fs::path dir = scratchDir("split");
+    std::string scene = (sourceDir() / "scenes" / "several_mirrors.xml").string();
+    writeText(dir / "script.txt", "spp 4\nlayer reflection.2\nframes 1\nscreenshot r2.png\n"
+                                  "layer transmission.1\nframes 1\nscreenshot t1.png\nsave_images\nquit\n");
+    CommandRun view = runView(scene + " " + kSmall + " --aov-bounces 2 --script script.txt", dir);
+    ASSERT_EQ(view.status, 0) << view.output;
+    ASSERT_EQ(runRender(scene + " " + kSmall + " --aov-bounces 2 -o r.png", dir).status, 0);
+    Image8 r2 = readPng(dir / "r2.png");
+    EXPECT_LE(compareRgb(r2, readPng(dir / "r.reflection.2.png")).maxLevels, 1);
+    EXPECT_LE(compareRgb(readPng(dir / "t1.png"), readPng(dir / "r.transmission.1.png")).maxLevels, 1);
+    EXPECT_GT(compareRgb(r2, readPng(dir / "r.reflection.png")).meanLevels, 0.5) << "reflection.2 is not the total";
+    std::vector<fs::path> entries;
+    for (const auto& e : fs::directory_iterator(dir / "renders")) entries.push_back(e.path());
+    ASSERT_EQ(entries.size(), 1u);
+    EXPECT_TRUE(fs::exists(entries[0] / "image.reflection.2.png"));
+    EXPECT_TRUE(fs::exists(entries[0] / "image.transmission.1.png"));
+}
+
 // Real X input (XTEST events from xdotool) through GLFW and ImGui: L shows
 // the next layer, a left drag orbits, a click on "6: sphere" in the panel
 // and one on the left end of its IOR slider set an IOR near 1.1, a click on
