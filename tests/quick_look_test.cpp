@@ -134,6 +134,12 @@ TEST(QuickLook, CommandLine) {
     EXPECT_EQ(r.status, 2);
     EXPECT_NE(r.output.find("lines_only.obj: mesh file \"lines_only.obj\""), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir / "bad.png"));
+    // The window refuses it before opening (no X server needed).
+    r = runWhitted("view '" + (meshes / "truncated.ply").string() + "'", dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("truncated.ply: mesh file \"truncated.ply\" could not be read"), std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(meshes / "truncated.ply.whitted.xml"));
 }
 
 }  // namespace

@@ -105,7 +105,8 @@ public:
           camera_(scene_.camera, sceneRadius(scene_)),
           progressive_(renderer_.width(), renderer_.height(), uint32_t(options.settings.samplesPerPixel),
                        options.targetFrameMs / 1000.0),
-          watcher_(options.scene, std::chrono::milliseconds(250)),
+          // A quick look does not watch (nor hold a copy of) the model file.
+          watcher_(options.sceneOut ? *options.sceneOut : options.scene, std::chrono::milliseconds(250)),
           layers_(layerViews(renderer_.width(), renderer_.height(), options.settings.aovBounces)) {
         window_.setInputSink(this);
         camera_.takeChanged();  // the file's camera, already uploaded
