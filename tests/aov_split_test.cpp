@@ -200,7 +200,8 @@ TEST(AovSplit, CommandLineWritesSplitImages) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     std::string whitted = "'" WHITTED_EXECUTABLE "' render " +
-                          (sourceDir() / "scenes" / "several_mirrors.xml").string() + " --width 64 --height 48 --validate";
+                          (sourceDir() / "scenes" / "several_mirrors.xml").string() +
+                          " --width 64 --height 48 --validate";
     CommandRun r = runCommand(whitted + " -o out.exr --aov-bounces 2", dir);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(readText(dir / "out.json").find("\"aov_bounces\": 2"), std::string::npos);

@@ -7,6 +7,7 @@
 #include "io/image_io.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
+#include "view/editor_panel.h"
 
 #include <fstream>
 #include <sstream>
@@ -71,7 +72,8 @@ TEST(QuickLook, ModelIsInFrame) {
             for (int x = 0; x < 160; ++x) {
                 if (pixel(r, gpu::kAovCoefs1, x, y).w == 0) continue;
                 ++hits, cx += x + 0.5, cy += y + 0.5;
-                EXPECT_TRUE(x > 0 && y > 0 && x < 159 && y < 119) << "the model touches the border at " << x << "," << y;
+                EXPECT_TRUE(x > 0 && y > 0 && x < 159 && y < 119)
+                    << "the model touches the border at " << x << "," << y;
             }
         double share = hits / (160.0 * 120.0);
         EXPECT_GT(share, 0.05);
@@ -96,6 +98,23 @@ TEST(QuickLook, WrittenSceneRendersTheSameImage) {
     RenderSettings s{.width = 80, .height = 60, .samplesPerPixel = 2, .maxDepth = 4, .auxiliary = true};
     RenderResult a = renderScene(scene, s), b = renderScene(loaded, s);
     for (uint32_t l = 0; l < gpu::kAovCount; ++l) EXPECT_TRUE(a.layers[l] == b.layers[l]) << "layer " << l;
+
+    // Edited as the window's panel does (moved, a checker switched on): the
+    // file keeps the reference, and the placement and checker survive.
+    ASSERT_FALSE(setObjectField(scene, 0, "y", 0.25));
+    ASSERT_FALSE(setObjectField(scene, 0, "checker_size", 0.3));
+    ASSERT_FALSE(setObjectField(scene, 0, "checker_r", 0.2));
+    writeSceneFile(scene, dir / "edited.xml");
+    EXPECT_NE(readText(dir / "edited.xml").find("<file>sphere.obj</file>"), std::string::npos);
+    Scene edited = loadScene(dir / "edited.xml");
+    EXPECT_EQ(edited.objects[0].material.checkerOrigin, scene.objects[0].material.checkerOrigin);
+    RenderResult c = renderScene(scene, s), d = renderScene(edited, s);
+    EXPECT_FALSE(c.layers[gpu::kAovColor] == a.layers[gpu::kAovColor]) << "the edits changed nothing";
+    for (uint32_t l = 0; l < gpu::kAovCount; ++l) {
+        ASSERT_EQ(c.layers[l].size(), d.layers[l].size());
+        for (size_t i = 0; i < c.layers[l].size(); ++i)  // moved: vertices re-placed from the file, within rounding
+            ASSERT_NEAR(c.layers[l][i], d.layers[l][i], 1e-3f) << "layer " << l << " value " << i;
+    }
 }
 
 // The command line: a model renders (into -o or a history folder whose

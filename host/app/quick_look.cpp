@@ -30,7 +30,8 @@ Scene quickLookScene(const std::filesystem::path& model) {
     std::string escaped;
     for (char c : file) escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : std::string(1, c);
     std::string xml = R"(<scene><camera><position x="0" y="0" z="0"/><window_position x="0" y="0" z="-1"/></camera>)"
-                      R"(<lights><light><position x="0" y="0" z="0"/><color r="1" g="1" b="1"/></light></lights><objects><object><properties><type>mesh</type><file>)" +
+                      R"(<lights><light><position x="0" y="0" z="0"/><color r="1" g="1" b="1"/></light></lights>)"
+                      R"(<objects><object><properties><type>mesh</type><file>)" +
                       escaped +
                       R"(</file><ambiente_coef>0.1</ambiente_coef><diffuse_coef>0.9</diffuse_coef>)"
                       R"(<specular_coef>0.2</specular_coef></properties></object></objects></scene>)";
@@ -69,7 +70,8 @@ Scene quickLookScene(const std::filesystem::path& model) {
     double halfH = std::atan(std::tan(halfV) * aspect);
     double distance = 1.3 * radius / std::sin(std::min(halfV, halfH));
     double azimuth = glm::radians(35.0), elevation = glm::radians(25.0);
-    glm::dvec3 toEye(std::sin(azimuth) * std::cos(elevation), std::sin(elevation), std::cos(azimuth) * std::cos(elevation));
+    glm::dvec3 toEye(std::sin(azimuth) * std::cos(elevation), std::sin(elevation),
+                     std::cos(azimuth) * std::cos(elevation));
     camera.eye = centre + distance * toEye;
     camera.windowCenter = centre;
     camera.up = {0, 1, 0};

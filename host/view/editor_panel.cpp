@@ -11,6 +11,14 @@
 namespace whitted {
 namespace {
 
+// Where a checker switched on in the panel starts its cells: where the
+// loader anchors them, the object's <position> (a model file's placement,
+// the reference point of every other shape), so the saved file reloads it.
+glm::dvec3 checkerAnchor(const Shape& s) {
+    if (const Mesh* mesh = std::get_if<Mesh>(&s); mesh && mesh->source) return mesh->source->position;
+    return shapeReferencePoint(s);
+}
+
 const char* shapeName(const Shape& s) {
     static const char* kNames[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh"};
     return kNames[s.index()];
@@ -140,14 +148,13 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         result.changed |= editScalar("reflection kr", m.reflection, 0, 1);
         result.changed |= editScalar("transmission kt", m.transmission, 0, 1);
         result.changed |= editScalar("IOR (refraction_coef)", m.ior, 1, 3);
-        // The checker (<checker_color>, <checker_size>): switched on, its
-        // cells start at the object's reference point, as the loader anchors
-        // them at <position>; switched off, size 0.
+        // The checker (<checker_color>, <checker_size>): switched on, size
+        // 1 from checkerAnchor; switched off, size 0.
         bool checker = m.checkerSize > 0;
         if (ImGui::Checkbox("checker", &checker)) {
             if (checker) {
                 m.checkerSize = 1.0;
-                m.checkerOrigin = shapeReferencePoint(o.shape);
+                m.checkerOrigin = checkerAnchor(o.shape);
             } else {
                 m.checkerSize = 0.0;
             }
@@ -190,7 +197,7 @@ std::optional<std::string> setObjectField(Scene& scene, int object, const std::s
     // point), its colour and the absorption, one channel at a time.
     if (field == "checker_size") {
         if (value < 0 || value > 1e6) return std::string("checker_size must be in [0, 1e6]");
-        if (m.checkerSize == 0 && value > 0) m.checkerOrigin = shapeReferencePoint(o.shape);
+        if (m.checkerSize == 0 && value > 0) m.checkerOrigin = checkerAnchor(o.shape);
         m.checkerSize = value;
         return std::nullopt;
     }
