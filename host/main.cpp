@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
     std::string output;
     std::string tonemap = "clamp";
     auto* renderCmd = app.add_subcommand("render", "render a scene file to images");
-    renderCmd->add_option("scene", render.scene, "scene XML file")->required();
+    renderCmd->add_option("scene", render.scene,
+                          "scene XML file (.xml), or a model file (any other extension: a quick look)")->required();
     renderCmd->add_option("-o,--output", output,
                           "image to write (.png, .exr, ...); auxiliary images go beside it. "
                           "Default: a new folder under renders/");
@@ -52,7 +53,12 @@ int main(int argc, char** argv) {
     renderCmd->add_option("--aov", render.aovs,
                           "auxiliary images: all, none, or a list of ambient,diffuse,specular,reflection,"
                           "transmission,ambient_coef,diffuse_coef,specular_coef,reflection_coef,"
-                          "transmission_coef,ior,depth,normal")->capture_default_str();
+                          "transmission_coef,ior,depth,normal; with --aov-bounces B also reflection.1..B and "
+                          "transmission.1..B")->capture_default_str();
+    renderCmd->add_option("--aov-bounces", render.settings.aovBounces,
+                          "split the reflection and transmission images by ray depth into B images each "
+                          "(reflection.K: rays at depth K of the reflected subtree; the last holds all deeper ones)")
+        ->check(CLI::Range(0, int(gpu::kAovBouncesMax)))->capture_default_str();
     renderCmd->add_option("--tonemap", tonemap, "clamp (sRGB) or seed (min-max normalisation, gamma 0.667)")
         ->check(CLI::IsMember({"clamp", "seed"}))->capture_default_str();
     renderCmd->add_option("--device", render.device,
@@ -73,13 +79,18 @@ int main(int argc, char** argv) {
     ViewOptions view;
     view.settings.samplesPerPixel = 256;
     auto* viewCmd = app.add_subcommand("view", "open a scene in a live window (README \"Live window\")");
-    viewCmd->add_option("scene", view.scene, "scene XML file")->required();
+    viewCmd->add_option("scene", view.scene,
+                        "scene XML file (.xml), or a model file (a quick look; Ctrl+S writes MODEL.whitted.xml)")
+        ->required();
     viewCmd->add_option("--width", view.settings.width, "image width in pixels [scene's]")->check(CLI::Range(1, 16384));
     viewCmd->add_option("--height", view.settings.height, "image height in pixels [scene's]")->check(CLI::Range(1, 16384));
     viewCmd->add_option("--spp", view.settings.samplesPerPixel, "sample budget per pixel; tracing stops there")
         ->check(CLI::Range(1, 65536))->capture_default_str();
     viewCmd->add_option("--max-depth", view.settings.maxDepth, "secondary bounces")
         ->check(CLI::Range(0, int(gpu::kMaxDepthLimit)))->capture_default_str();
+    viewCmd->add_option("--aov-bounces", view.settings.aovBounces,
+                        "also show reflection and transmission split by ray depth into B images each (L cycles)")
+        ->check(CLI::Range(0, int(gpu::kAovBouncesMax)))->capture_default_str();
     viewCmd->add_option("--frames", view.frames, "close after N frames [until the window is closed]")->check(CLI::NonNegativeNumber);
     viewCmd->add_option("--screenshot", view.screenshot, "write the image shown as PNG when closing");
     viewCmd->add_option("--script", view.script, "timed input commands (see host/view/view_script.h)");

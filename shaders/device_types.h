@@ -88,6 +88,14 @@ WHITTED_CONST uint kAovNormal = 6;     // xyz shading normal, w hit mask
 WHITTED_CONST uint kAovCoefs0 = 7;     // ka, kd, ks, depth (primary hit)
 WHITTED_CONST uint kAovCoefs1 = 8;     // kr, kt, ior, hit mask
 WHITTED_CONST uint kAovCount = 9;
+// Reflection and transmission split by ray-tree depth (README "Auxiliary
+// images"), only in a render that asks for them: with B bounces
+// (FrameParams.options.z >> kOptionAovBouncesShift), layer kAovCount + k - 1
+// sums what rays at depth k of the primary hit's reflection subtree bring
+// back and kAovCount + B + k - 1 the same for transmission, k = 1 .. B; the
+// last of each holds every depth >= B, so they add up to kAovReflection and
+// kAovTransmission. w: the samples taken, as in the colour layers.
+WHITTED_CONST uint kAovBouncesMax = 16;
 
 // Capacity of the explicit ray stack; a Whitted tree traversed depth first
 // never holds more than maxDepth + 1 pending rays.
@@ -105,6 +113,8 @@ WHITTED_CONST uint kSpecListShapeMask = 2; // as kSpecShapeMask, for the primiti
 
 // FrameParams.options.z bit flags.
 WHITTED_CONST uint kOptionWriteAovs = 1u;
+// Bits 8..15: the number B of split reflection/transmission layers (0: none).
+WHITTED_CONST uint kOptionAovBouncesShift = 8u;
 
 // One geometric primitive. Meaning of a, b, c by shape:
 //   sphere:   a = (centre, radius)

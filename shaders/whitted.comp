@@ -57,6 +57,23 @@ void addToSpread(inout SampleSpread spread, vec3 color, uint object, bool firstS
     }
 }
 
+// Reflection and transmission split by ray-tree depth (the layers after
+// kAovCount, device_types.h), only when a render asks for them: each
+// secondary ray's light is added straight into its layer at the pixel's
+// place (gSplitPixel; kNoObject outside the output rectangle), so a render
+// without them keeps no extra per-sample state. A ray at depth d goes to
+// bounce min(d, B): the last layer also holds everything deeper.
+uint gSplitBounces = 0u;
+uint gSplitPixel = kNoObject;
+uint gSplitPixels = 0u;
+
+void addBounceSplit(uint component, uint depth, vec3 light) {
+    if (gSplitBounces == 0u || gSplitPixel == kNoObject) return;
+    uint layer = kAovCount + (component == kAovTransmission ? gSplitBounces : 0u) + min(depth, gSplitBounces) - 1u;
+    uint i = layer * gSplitPixels + gSplitPixel;
+    outputLayers[i].rgb += light;
+}
+
 // Traces samples [first, end) of pattern size n of a pixel in ONE loop: when
 // a sample's ray tree is done, the next sample's camera ray enters the stack
 // in the same iteration. Lanes run in lockstep on a SIMD CPU driver
@@ -124,6 +141,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         } else {
             vec3 light = pending.weight * (local.ambient + local.diffuse + local.specular);
             result.components[pending.component - 1u] += light;
+            addBounceSplit(pending.component, pending.depth, light);
             sampleColor += light;
         }
         if (pending.depth >= maxDepth) continue;
@@ -193,6 +211,21 @@ void main() {
 
     uint first = tileParams.samples.x;
     uint count = tileParams.samples.y;
+    bool overwrite = (flags & kTileOverwrite) != 0u;
+    uvec4 rect = tileParams.outputRect;
+    bool inRect = all(greaterThanEqual(pixel, rect.xy)) && all(lessThan(pixel, rect.xy + rect.zw));
+    if ((params.options.z & kOptionWriteAovs) != 0u && inRect) {
+        // The split layers' sums start here (cleared or kept, with the
+        // sample count in w, as accumulate() does for the other layers).
+        gSplitBounces = params.options.z >> kOptionAovBouncesShift;
+        gSplitPixels = rect.z * rect.w;
+        gSplitPixel = (pixel.y - rect.y) * rect.z + (pixel.x - rect.x);
+        for (uint k = 0u; k < 2u * gSplitBounces; ++k) {
+            uint i = (kAovCount + k) * gSplitPixels + gSplitPixel;
+            vec4 samples = vec4(0.0, 0.0, 0.0, float(count));
+            outputLayers[i] = overwrite ? samples : outputLayers[i] + samples;
+        }
+    }
     traceSamples(pixel, first, first + count, tileParams.samples.z, pixelSeed, result, spread, rayCount);
     vec3 color = result.components[0] + result.components[1] + result.components[2] +
                  result.components[3] + result.components[4];
@@ -200,9 +233,7 @@ void main() {
     // Accumulate sums into the output rectangle; the host divides by the
     // sample count (w of the colour layer). Guide pixels outside it (the
     // adaptive first pass's one-pixel border) write only the guide.
-    bool overwrite = (flags & kTileOverwrite) != 0u;
-    uvec4 rect = tileParams.outputRect;
-    if (all(greaterThanEqual(pixel, rect.xy)) && all(lessThan(pixel, rect.xy + rect.zw))) {
+    if (inRect) {
         uint outPixels = rect.z * rect.w;
         uint o = (pixel.y - rect.y) * rect.z + (pixel.x - rect.x);
         accumulate(kAovColor, outPixels, o, vec4(color, float(count)), overwrite);

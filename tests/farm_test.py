@@ -113,6 +113,20 @@ def tiles_exr_killed_worker():
         same(os.path.join(d, "ref" + suffix + ".exr"), os.path.join(d, "farm" + suffix + ".exr"))
 
 
+def split_aovs():
+    """Reflection split by depth (--aov-bounces) merges like every other auxiliary image, PNG and EXR."""
+    d = os.path.join(work, "split")
+    os.makedirs(d, exist_ok=True)
+    extra = OPTS + ["--aov", "reflection,reflection.1,reflection.2,transmission.2", "--aov-bounces", "2"]
+    for ext in (".png", ".exr"):
+        single(SCENE2, os.path.join(d, "ref" + ext), extra)
+        rc, err, _ = farm([SCENE2, "-o", os.path.join(d, "farm" + ext), "--local-workers", "2", "--tile-size", "64"]
+                          + extra)
+        assert rc == 0, err
+        for suffix in ["", ".reflection", ".reflection.1", ".reflection.2", ".transmission.2"]:
+            same(os.path.join(d, "ref" + suffix + ext), os.path.join(d, "farm" + suffix + ext))
+
+
 def frames():
     """(c) two scenes, -o DIR/%04d.png: one image (and its auxiliary images) per frame, equal to single renders."""
     d = os.path.join(work, "frames")
@@ -146,6 +160,8 @@ def refusals():
         ([SCENE, SCENE2, "-o", os.path.join(d, "same.png")], "pattern"),
         ([SCENE, "-o", os.path.join(d, "a.tiff")], ".png or .exr"),
         ([SCENE, "-o", os.path.join(d, "a.png"), "--aov", "bogus"], "bogus"),
+        ([SCENE, "-o", os.path.join(d, "a.png"), "--aov", "reflection.3", "--aov-bounces", "2"], "reflection.3"),
+        ([SCENE, "-o", os.path.join(d, "a.png"), "--aov-bounces", "17"], "--aov-bounces must be in 0..16"),
     ]
     for args, message in checks:
         rc, err, _ = farm(args + ["--local-workers", "1"])
@@ -158,6 +174,7 @@ case(refusals)
 case(tiles_png)
 case(tiles_exr_killed_worker)
 case(frames)
+case(split_aovs)
 
 passed = sum(results)
 failed = len(results) - passed

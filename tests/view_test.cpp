@@ -211,6 +211,38 @@ TEST(View, EditorEditAndSave) {
     EXPECT_GT(compareRgb(ior1, readPng(dir / "before.png")).meanLevels, 0.05) << "the IOR edit changed nothing";
 }
 
+// The panel's checker and absorption fields (the script's `edit` does what
+// the panel does): a checker added to the back wall, its colour changed, the
+// glass sphere given an absorption; the saved file holds them and renders
+// what the window showed. The panel is shown with the sphere selected.
+TEST(View, EditorCheckerAndAbsorption) {
+    fs::path dir = scratchDir("editor_checker");
+    writeText(dir / "scene.xml", readText(room()));
+    writeText(dir / "script.txt",
+              "spp 4\nscreenshot before.png\nedit 0 checker_size 0.5\nedit 0 checker_g 0.1\n"
+              "edit 6 absorption_r 0.5\nedit 6 absorption_g 3\nedit 6 absorption_b 3\nselect object 6\nspp 4\n"
+              "screenshot edited.png\nwindow_screenshot panel.png\nsave_scene\nquit\n");
+    CommandRun view = runView("scene.xml " + std::string(kSmall) + " --script script.txt", dir);
+    ASSERT_EQ(view.status, 0) << view.output;
+    Scene original = loadScene(room());
+    Scene saved = loadScene(dir / "scene.xml");
+    ASSERT_EQ(saved.objects.size(), 9u);
+    EXPECT_EQ(original.objects[0].material.checkerSize, 0.0);
+    EXPECT_EQ(saved.objects[0].material.checkerSize, 0.5);
+    EXPECT_EQ(saved.objects[0].material.checkerColor, glm::dvec3(1, 0.1, 1));
+    EXPECT_EQ(saved.objects[6].material.absorption, glm::dvec3(0.5, 3, 3));
+    ASSERT_EQ(runRender("scene.xml " + std::string(kSmall) + " --aov none -o saved.png", dir).status, 0);
+    Image8 edited = readPng(dir / "edited.png");
+    EXPECT_LE(compareRgb(edited, readPng(dir / "saved.png")).maxLevels, 1);
+    EXPECT_GT(compareRgb(edited, readPng(dir / "before.png")).meanLevels, 1.0) << "the edits changed nothing";
+    EXPECT_TRUE(fs::exists(dir / "panel.png"));
+
+    writeText(dir / "bad.txt", "edit 6 absorption_g -1\n");
+    CommandRun bad = runView("scene.xml " + std::string(kSmall) + " --script bad.txt", dir);
+    EXPECT_NE(bad.status, 0);
+    EXPECT_NE(bad.output.find("bad.txt:1: edit: absorption_g must be in [0, 1e6]"), std::string::npos) << bad.output;
+}
+
 // Auxiliary images on screen match the files `render` writes, and the save
 // key fills a history folder like `render` does.
 TEST(View, AuxiliaryLayersAndSave) {
@@ -229,6 +261,27 @@ TEST(View, AuxiliaryLayersAndSave) {
     for (const char* f : {"image.png", "image.diffuse.png", "image.depth.png", "scene.xml", "render.json"})
         EXPECT_TRUE(fs::exists(entries[0] / f)) << f;
     EXPECT_LE(compareRgb(readPng(entries[0] / "image.png"), readPng(dir / "r.png")).maxLevels, 1);
+}
+
+// --aov-bounces in the window: the split images are in the L list and show
+// what `render` writes for them; P saves them too.
+TEST(View, SplitReflectionImages) {
+    fs::path dir = scratchDir("split");
+    std::string scene = (sourceDir() / "scenes" / "several_mirrors.xml").string();
+    writeText(dir / "script.txt", "spp 4\nlayer reflection.2\nframes 1\nscreenshot r2.png\n"
+                                  "layer transmission.1\nframes 1\nscreenshot t1.png\nsave_images\nquit\n");
+    CommandRun view = runView(scene + " " + kSmall + " --aov-bounces 2 --script script.txt", dir);
+    ASSERT_EQ(view.status, 0) << view.output;
+    ASSERT_EQ(runRender(scene + " " + kSmall + " --aov-bounces 2 -o r.png", dir).status, 0);
+    Image8 r2 = readPng(dir / "r2.png");
+    EXPECT_LE(compareRgb(r2, readPng(dir / "r.reflection.2.png")).maxLevels, 1);
+    EXPECT_LE(compareRgb(readPng(dir / "t1.png"), readPng(dir / "r.transmission.1.png")).maxLevels, 1);
+    EXPECT_GT(compareRgb(r2, readPng(dir / "r.reflection.png")).meanLevels, 0.5) << "reflection.2 is not the total";
+    std::vector<fs::path> entries;
+    for (const auto& e : fs::directory_iterator(dir / "renders")) entries.push_back(e.path());
+    ASSERT_EQ(entries.size(), 1u);
+    EXPECT_TRUE(fs::exists(entries[0] / "image.reflection.2.png"));
+    EXPECT_TRUE(fs::exists(entries[0] / "image.transmission.1.png"));
 }
 
 // Real X input (XTEST events from xdotool) through GLFW and ImGui: L shows
@@ -267,6 +320,25 @@ TEST(View, RealInputDrivesCameraAndPanel) {
     EXPECT_GT(saved.objects[6].material.ior, 1.0);
     EXPECT_LT(saved.objects[6].material.ior, 1.3);
     EXPECT_EQ(saved.objects[6].material.transmission, 0.8);
+}
+
+// A quick look of a model file: Ctrl+S (save_scene) writes the generated
+// scene beside the model, never over it; that scene renders what the window
+// showed, and what `render MODEL` gives.
+TEST(View, QuickLookSavesTheSceneBesideTheModel) {
+    fs::path dir = scratchDir("quick_look");
+    fs::copy_file(sourceDir() / "tests" / "meshes" / "pyramid.obj", dir / "pyramid.obj");
+    std::string model = readText(dir / "pyramid.obj");
+    writeText(dir / "script.txt", "spp 4\nscreenshot view.png\nsave_scene\nquit\n");
+    CommandRun view = runView("pyramid.obj " + std::string(kSmall) + " --script script.txt", dir);
+    ASSERT_EQ(view.status, 0) << view.output;
+    EXPECT_NE(view.output.find("saved scene to pyramid.obj.whitted.xml"), std::string::npos) << view.output;
+    EXPECT_EQ(readText(dir / "pyramid.obj"), model);
+    ASSERT_TRUE(fs::exists(dir / "pyramid.obj.whitted.xml"));
+    ASSERT_EQ(runRender("pyramid.obj.whitted.xml " + std::string(kSmall) + " --aov none -o saved.png", dir).status, 0);
+    ASSERT_EQ(runRender("pyramid.obj " + std::string(kSmall) + " --aov none -o model.png", dir).status, 0);
+    EXPECT_EQ(compareRgb(readPng(dir / "saved.png"), readPng(dir / "model.png")).maxLevels, 0);
+    EXPECT_LE(compareRgb(readPng(dir / "view.png"), readPng(dir / "saved.png")).maxLevels, 1);
 }
 
 TEST(View, BadInputExitsBeforeOpeningAWindow) {
@@ -355,6 +427,8 @@ TEST(SceneWriter, RoundTripGivesEqualScene) {
                         expectClose(s.max, t.max, what);
                     } else if constexpr (std::is_same_v<T, Mesh>) {
                         ASSERT_EQ(s.triangles.size(), t.triangles.size());
+                        EXPECT_EQ(s.normals.size(), t.normals.size());
+                        EXPECT_EQ(s.source.has_value(), t.source.has_value()) << "a model file is written as <file>";
                         for (size_t k = 0; k < s.triangles.size(); ++k) {
                             EXPECT_EQ(s.triangles[k].v0, t.triangles[k].v0);
                             EXPECT_EQ(s.triangles[k].v1, t.triangles[k].v1);

@@ -22,10 +22,19 @@ import tempfile
 import time
 import xml.etree.ElementTree as ET
 
-PASS_THROUGH = ["width", "height", "spp", "max-depth", "aov", "aa", "aa-threshold"]
+PASS_THROUGH = ["width", "height", "spp", "max-depth", "aov", "aov-bounces", "aa", "aa-threshold"]
 AOV_NAMES = ["ambient", "diffuse", "specular", "reflection", "transmission", "ambient_coef", "diffuse_coef",
              "specular_coef", "reflection_coef", "transmission_coef", "ior", "depth", "normal", "samples"]
 COLOUR_AOVS = {"ambient", "diffuse", "specular", "reflection", "transmission"}
+
+
+def split_aov_names(bounces):
+    """The images of --aov-bounces B, in the order whitted's --aov all writes them (after "transmission")."""
+    return [f"{part}.{k}" for part in ("reflection", "transmission") for k in range(1, (bounces or 0) + 1)]
+
+
+def is_colour(name):
+    return name in COLOUR_AOVS or name.split(".")[0] in ("reflection", "transmission")
 
 
 class Refused(Exception):
@@ -128,6 +137,7 @@ def parse_args(argv):
     p.add_argument("--spp", type=positive_int)
     p.add_argument("--max-depth", type=int)
     p.add_argument("--aov")
+    p.add_argument("--aov-bounces", type=int)
     p.add_argument("--aa", choices=["adaptive", "uniform"])
     p.add_argument("--aa-threshold", type=float)
     return p.parse_args(argv)
@@ -142,15 +152,19 @@ def render_args(a):
     return out
 
 
-def aov_list(text):
+def aov_list(text, bounces=None):
+    split = split_aov_names(bounces)
     if text is None or text in ("", "none"):
         return []
     if text == "all":
-        return list(AOV_NAMES)
+        i = AOV_NAMES.index("transmission") + 1
+        return AOV_NAMES[:i] + split + AOV_NAMES[i:]
     names = []
     for n in text.split(","):
-        if n not in AOV_NAMES:
-            raise Refused(f"--aov: unknown auxiliary image '{n}' (known: {', '.join(AOV_NAMES)}, all, none)")
+        if n not in AOV_NAMES and n not in split:
+            known = ", ".join(AOV_NAMES + split)
+            raise Refused(f"--aov: unknown auxiliary image '{n}' (known: {known}, all, none; "
+                          "reflection.K and transmission.K need --aov-bounces K or more)")
         if n not in names:
             names.append(n)
     return names
@@ -186,7 +200,9 @@ def plan(a):
         raise Refused("--aa-threshold must be >= 0")
     if a.max_depth is not None and a.max_depth < 0:
         raise Refused("--max-depth must be >= 0")
-    aovs = aov_list(a.aov)
+    if a.aov_bounces is not None and not 0 <= a.aov_bounces <= 16:
+        raise Refused("--aov-bounces must be in 0..16")
+    aovs = aov_list(a.aov, a.aov_bounces)
     whitted = a.whitted or "whitted"
     if a.scheduler is None:  # local workers: the executable must be here
         found = shutil.which(whitted)
@@ -353,7 +369,7 @@ def run_tiles(client, job, args, a):
     images = {}  # file name in the tile folder -> (output path, colour, array)
     images["tile" + ext] = (out, True, None)
     for n in main_aovs:
-        images["tile." + n + ext] = (aux_name(out, n), n in COLOUR_AOVS, None)
+        images["tile." + n + ext] = (aux_name(out, n), is_colour(n), None)
     depth = np.zeros((height, width), np.float32) if depth8 else None
     records = []
     for k, r in enumerate(regions):

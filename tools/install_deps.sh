@@ -12,7 +12,7 @@ packages=(
   povray xvfb xauth
   python3-matplotlib
   clang-14 libfuzzer-14-dev libclang-rt-14-dev
-  libassimp-dev
+  libassimp-dev assimp-testmodels
   libimgui-dev xdotool
   nlohmann-json3-dev
   python3-distributed python3-openimageio

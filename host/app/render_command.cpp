@@ -1,11 +1,13 @@
 // `whitted render`: load, check outputs, render with progress, write files.
 #include "app/commands.h"
 #include "app/progress_bar.h"
+#include "app/quick_look.h"
 #include "io/image_io.h"
 #include "io/render_record.h"
 #include "render/multi_device.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
+#include "scene/scene_writer.h"
 #include "vk/context.h"
 
 #include <chrono>
@@ -58,7 +60,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
     // Everything that can be refused is refused before the device starts.
     std::vector<std::string> aovs;
     try {
-        aovs = parseAovList(options.aovs);
+        aovs = parseAovList(options.aovs, options.settings.aovBounces);
     } catch (const std::invalid_argument& e) {
         std::cerr << "whitted: --aov: " << e.what() << " (see whitted render --help)\n";
         return kExitBadInput;
@@ -66,7 +68,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
     Scene scene;
     auto loadStart = std::chrono::steady_clock::now();
     try {
-        scene = loadScene(options.scene);
+        scene = loadSceneOrModel(options.scene);  // a model file: a quick look
     } catch (const SceneError& e) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
@@ -81,6 +83,8 @@ int runRenderCommand(const RenderCommandOptions& options) {
 
     RenderSettings settings = options.settings;
     settings.auxiliary = !aovs.empty();
+    // Split layers only when a split image is written (they cost memory and bandwidth).
+    if (!hasSplitAov(aovs)) settings.aovBounces = 0;
     // One context and renderer per device: --device all, or a list such as
     // 0,1 (the same device may be named twice, which tests the sharing).
     std::vector<std::unique_ptr<VulkanContext>> contexts;
@@ -145,7 +149,10 @@ int runRenderCommand(const RenderCommandOptions& options) {
         try {
             shown = writeHistoryFolder(options.historyRoot, [&](const std::filesystem::path& staging) {
                 if (!renderInto(staging / "image.png")) throw ValidationFailed{};
-                std::filesystem::copy_file(options.scene, staging / "scene.xml");
+                if (isSceneFile(options.scene))
+                    std::filesystem::copy_file(options.scene, staging / "scene.xml");
+                else  // a quick look: the scene built for the model
+                    writeSceneFile(scene, staging / "scene.xml");
                 files.push_back(staging / "scene.xml");
                 writeTextFile(staging / "render.json", recordJson());
             });

@@ -4,15 +4,20 @@
 #include <iostream>
 
 #include "app/commands.h"
+#include "app/quick_look.h"
 #include "scene/scene_loader.h"
 #include "view/view_app.h"
 
 namespace whitted {
 
-int runViewCommand(const ViewOptions& options) {
+int runViewCommand(const ViewOptions& given) {
+    // A model file is a quick look: the scene built for it is written, by
+    // Ctrl+S, beside the model (never over it), and the model is not watched.
+    ViewOptions options = given;
+    if (!isSceneFile(options.scene)) options.sceneOut = quickLookScenePath(options.scene);
     Scene scene;
     try {
-        scene = loadScene(options.scene);
+        scene = loadSceneOrModel(options.scene);
     } catch (const SceneError& e) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;

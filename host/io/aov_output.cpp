@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <sstream>
 #include <unistd.h>
 #include <stdexcept>
@@ -47,9 +48,31 @@ const std::vector<AovSpec>& aovSpecs() {
     return specs;
 }
 
-const AovSpec& findSpec(const std::string& name) {
+// The split images (README "Auxiliary images"): "reflection.K" and
+// "transmission.K", K = 1 .. bounces, in layers after gpu::kAovCount.
+// Returns nothing for a name of another form.
+std::optional<AovSpec> splitSpec(const std::string& name, uint32_t bounces) {
+    for (uint32_t part = 0; part < 2; ++part) {
+        std::string prefix = part == 0 ? "reflection." : "transmission.";
+        if (name.rfind(prefix, 0) != 0) continue;
+        std::string digits = name.substr(prefix.size());
+        if (digits.empty() || digits.size() > 3 || digits.find_first_not_of("0123456789") != std::string::npos ||
+            digits[0] == '0')
+            return std::nullopt;
+        uint32_t k = uint32_t(std::stoul(digits));
+        if (k > bounces)
+            throw std::invalid_argument("auxiliary image '" + name + "' needs --aov-bounces " + std::to_string(k) +
+                                        " or more (got " + std::to_string(bounces) + ")");
+        return AovSpec{{"split", "reflection or transmission at one ray depth"}, AovKind::Color,
+                       gpu::kAovCount + part * bounces + k - 1, 0, 1};
+    }
+    return std::nullopt;
+}
+
+AovSpec findSpec(const std::string& name, uint32_t bounces) {
     for (const AovSpec& s : aovSpecs())
         if (name == s.info.name) return s;
+    if (std::optional<AovSpec> split = splitSpec(name, bounces)) return *split;
     throw std::invalid_argument("unknown auxiliary image '" + name + "'");
 }
 
@@ -120,8 +143,9 @@ ImageFileSink::ImageFileSink(const std::filesystem::path& mainImage, const std::
         files_.push_back(std::move(file));
     };
     add(mainImage, AovSpec{{"image", "the image"}, AovKind::Color, gpu::kAovColor, 0, 1});
+    uint32_t bounces = layout.layerCount > gpu::kAovCount ? (layout.layerCount - gpu::kAovCount) / 2 : 0;
     for (const std::string& name : aovs) {
-        const AovSpec& spec = findSpec(name);
+        AovSpec spec = findSpec(name, bounces);
         if (spec.kind != AovKind::Samples && layout.layerCount <= spec.layer)
             throw std::logic_error("auxiliary images requested from a render without auxiliary layers");
         add(aovPath(mainImage, name), spec);
@@ -244,20 +268,31 @@ const std::vector<AovInfo>& allAovs() {
     return infos;
 }
 
-std::vector<std::string> parseAovList(const std::string& list) {
+std::vector<std::string> parseAovList(const std::string& list, int bounces) {
     std::vector<std::string> names;
     if (list == "none" || list.empty()) return names;
     if (list == "all") {
-        for (const AovInfo& a : allAovs()) names.push_back(a.name);
+        for (const AovInfo& a : allAovs()) {
+            names.push_back(a.name);
+            if (std::string(a.name) == "transmission")  // the split images follow the colour components
+                for (const char* part : {"reflection.", "transmission."})
+                    for (int k = 1; k <= bounces; ++k) names.push_back(part + std::to_string(k));
+        }
         return names;
     }
     std::stringstream in(list);
     std::string item;
     while (std::getline(in, item, ',')) {
-        findSpec(item);  // throws for an unknown name
+        findSpec(item, uint32_t(bounces));  // throws for an unknown name
         if (std::find(names.begin(), names.end(), item) == names.end()) names.push_back(item);
     }
     return names;
+}
+
+bool hasSplitAov(const std::vector<std::string>& aovs) {
+    for (const std::string& name : aovs)
+        if (name.rfind("reflection.", 0) == 0 || name.rfind("transmission.", 0) == 0) return true;
+    return false;
 }
 
 std::filesystem::path aovPath(const std::filesystem::path& mainImage, const std::string& aov) {
@@ -269,7 +304,10 @@ std::vector<std::filesystem::path> writeRenderImages(const RenderResult& result,
     // The whole result as one band.
     ImageLayout layout = result.layout;
     if (layout.fullWidth == 0) layout = {result.width, result.height, {0, 0, result.width, result.height}, 1};
-    layout.layerCount = result.hasAuxiliary ? gpu::kAovCount : 1;
+    layout.layerCount = 1;
+    if (result.hasAuxiliary)  // the rendered layers: kAovCount, and the split ones if any
+        while (layout.layerCount < result.layers.size() && !result.layers[layout.layerCount].empty())
+            ++layout.layerCount;
     size_t pixels = size_t(result.width) * result.height;
     std::vector<float> layers(layout.layerCount * pixels * 4);
     for (uint32_t l = 0; l < layout.layerCount; ++l)

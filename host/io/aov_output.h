@@ -28,8 +28,14 @@ struct AovInfo {
 const std::vector<AovInfo>& allAovs();
 
 // Parses "all", "none" or a comma-separated list of names; throws
-// std::invalid_argument naming an unknown entry.
-std::vector<std::string> parseAovList(const std::string& list);
+// std::invalid_argument naming an unknown entry. With bounces B > 0, the
+// split images reflection.1 .. reflection.B and transmission.1 ..
+// transmission.B exist too ("all" includes them after "transmission"); a
+// split name beyond B is refused.
+std::vector<std::string> parseAovList(const std::string& list, int bounces = 0);
+
+// Whether the list holds one of the split images (reflection.K, transmission.K).
+bool hasSplitAov(const std::vector<std::string>& aovs);
 
 // Path of auxiliary image `aov` for the main image `mainImage`:
 // out/room.png -> out/room.diffuse.png

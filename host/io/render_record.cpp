@@ -42,6 +42,7 @@ std::string renderRecordJson(const RenderRecord& r) {
           {"height", res.height},
           {"spp", r.settings.samplesPerPixel},
           {"max_depth", r.settings.maxDepth},
+          {"aov_bounces", r.settings.aovBounces},
           {"tonemap", r.tonemap},
           {"aa", r.settings.antiAliasing == AntiAliasing::Adaptive ? "adaptive" : "uniform"},
           {"aa_threshold", r.settings.aaThreshold},

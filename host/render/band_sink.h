@@ -17,7 +17,7 @@ struct ImageLayout {
     int fullWidth = 0;
     int fullHeight = 0;
     PixelRegion region;       // the pixels rendered, within the full image
-    uint32_t layerCount = 1;  // gpu::kAovCount with auxiliary layers, else 1 (colour only)
+    uint32_t layerCount = 1;  // gpu::kAovCount (+ 2 per split bounce) with auxiliary layers, else 1 (colour only)
 };
 
 // One band: rows [y0, y0 + rows) of the region, every column of it.

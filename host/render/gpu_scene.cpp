@@ -141,6 +141,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     g.params.sizes = glm::uvec4(g.width, g.height, g.primitives.size(), g.lights.size());
     g.params.options = glm::uvec4(settings.samplesPerPixel, settings.maxDepth,
                                   settings.auxiliary ? gpu::kOptionWriteAovs : 0u, settings.seed);
+    if (settings.auxiliary) g.params.options.z |= uint32_t(settings.aovBounces) << gpu::kOptionAovBouncesShift;
     g.params.accel = glm::uvec4(g.bvhNodes.size(), bounded.size(), unbounded.size(), 0);
     return g;
 }

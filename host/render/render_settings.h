@@ -38,6 +38,9 @@ struct RenderSettings {
     int samplesPerPixel = 1;  // uniform: exactly; adaptive: at most
     int maxDepth = 6;         // secondary bounces; 0 = local shading only
     bool auxiliary = true;    // also produce the auxiliary (AOV) layers
+    // With auxiliary: reflection and transmission split by ray depth into
+    // this many layers each (0..gpu::kAovBouncesMax; README "Auxiliary images").
+    int aovBounces = 0;
     bool useBvh = true;       // false: test every primitive (reference for tests)
     TracePath trace = TracePath::Auto;
     uint32_t seed = 0;        // decorrelates sample patterns between renders

@@ -170,7 +170,10 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     if (settings.maxDepth < 0 || settings.maxDepth > int(gpu::kMaxDepthLimit))
         throw std::runtime_error("max depth must be in 0.." + std::to_string(gpu::kMaxDepthLimit) + ", got " +
                                  std::to_string(settings.maxDepth));
-    layerCount_ = settings.auxiliary ? gpu::kAovCount : 1;
+    if (settings.aovBounces < 0 || settings.aovBounces > int(gpu::kAovBouncesMax))
+        throw std::runtime_error("auxiliary bounces must be in 0.." + std::to_string(gpu::kAovBouncesMax) + ", got " +
+                                 std::to_string(settings.aovBounces));
+    layerCount_ = settings.auxiliary ? gpu::kAovCount + 2 * uint32_t(settings.aovBounces) : 1;
     layout_ = {.fullWidth = scene_.width, .fullHeight = scene_.height,
                .region = regionFor(settings, scene_.width, scene_.height), .layerCount = layerCount_};
 
@@ -381,6 +384,7 @@ RenderResult Renderer::readMeans() const {
     result.hasAuxiliary = settings_.auxiliary;
     size_t pixels = size_t(scene_.width) * scene_.height;
     std::vector<float> raw(pixels * 4 * layerCount_);
+    result.layers.resize(std::max(gpu::kAovCount, layerCount_));
     readBuffer(ctx_, output_, raw.data(), raw.size() * sizeof(float));
     uint32_t minimum = UINT32_MAX;
     for (size_t i = 0; i < pixels; ++i) minimum = std::min(minimum, uint32_t(raw[i * 4 + 3]));
@@ -622,6 +626,7 @@ class MemorySink final : public BandSink {
 public:
     explicit MemorySink(RenderResult& result) : result_(result) {
         size_t pixels = size_t(result.layout.region.width()) * result.layout.region.height();
+        result_.layers.resize(std::max(gpu::kAovCount, result.layout.layerCount));
         for (uint32_t l = 0; l < result.layout.layerCount; ++l) result_.layers[l].resize(pixels * 4);
         result_.sampleCounts.resize(pixels);
     }

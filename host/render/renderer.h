@@ -34,7 +34,10 @@ struct RenderResult {
     int samplesPerPixel = 0;  // uniform: every pixel's count; adaptive: the maximum
     bool hasAuxiliary = false;
     // Filled by Renderer::render; empty after renderTo (the sink had them).
-    std::array<std::vector<float>, gpu::kAovCount> layers;  // only kAovColor without auxiliary
+    // At least gpu::kAovCount entries (the ones not rendered empty); more
+    // with split reflection/transmission layers (RenderSettings::aovBounces).
+    // Only kAovColor is filled without auxiliary layers.
+    std::vector<std::vector<float>> layers = std::vector<std::vector<float>>(gpu::kAovCount);
     std::vector<float> sampleCounts;  // samples each pixel took
     ImageLayout layout;
     uint64_t samplesTaken = 0;  // camera samples over all pixels

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -88,6 +89,16 @@ struct Box {
 struct Mesh {
     std::vector<Triangle> triangles;
     std::vector<std::array<glm::dvec3, 3>> normals;
+    // A mesh read from a model file (<file>): where from and how it was
+    // placed, so that the scene writer writes the reference again rather
+    // than its triangles. Moving the mesh moves `position` with it.
+    struct FileSource {
+        std::filesystem::path path;  // absolute: the scene file's folder applied
+        glm::dvec3 position{0};      // the object's <position>
+        glm::dvec3 scale{1};
+        glm::dvec3 rotationDegrees{0};
+    };
+    std::optional<FileSource> source;
 };
 
 struct CsgChild;

@@ -765,6 +765,7 @@ private:
         glm::dmat3 linear{1.0};
         glm::dmat3 normalLinear{1.0};
         bool identity = true;  // no <scale> and no <rotation>: vertices are only offset
+        glm::dvec3 scale{1}, rotationDegrees{0};  // as written
 
         // Within ±1e6 of the position on every axis, as inline vertices
         // are; false when <scale> or <rotation> take a vertex further.
@@ -803,6 +804,8 @@ private:
             rotation = vector(e);
             placement.identity = false;
         }
+        placement.scale = scale;
+        placement.rotationDegrees = rotation;
         glm::dmat3 r = rotationXyz(rotation);
         placement.linear = r * glm::dmat3(scale.x, 0, 0, 0, scale.y, 0, 0, 0, scale.z);
         placement.normalLinear = r * glm::dmat3(1 / scale.x, 0, 0, 0, 1 / scale.y, 0, 0, 0, 1 / scale.z);
@@ -883,6 +886,8 @@ private:
             }
         }
         if (mesh.triangles.empty()) diag_.fail(e, "every triangle in " + name + " is degenerate");
+        mesh.source = Mesh::FileSource{std::filesystem::absolute(path).lexically_normal(), placement.offset,
+                                       placement.scale, placement.rotationDegrees};
         if (skipped > 0)
             diag_.warn(e, name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
                               " skipped");

@@ -70,23 +70,42 @@ void writeTriangleVertices(XmlOut& x, const Triangle& t, const glm::dvec3& origi
     x.vector("vertex", t.v2 - origin);
 }
 
+// The <file> of a mesh read from a model file: relative to the folder the
+// scene is written to (absolute when that is unknown or on another root).
+std::string meshFileText(const Mesh::FileSource& source, const std::filesystem::path& destination) {
+    if (destination.empty()) return source.path.string();
+    std::filesystem::path folder = std::filesystem::absolute(destination).parent_path();
+    std::filesystem::path relative = source.path.lexically_relative(folder);
+    std::string text = relative.empty() ? source.path.string() : relative.generic_string();
+    std::string escaped;
+    for (char c : text) escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : std::string(1, c);
+    return escaped;
+}
+
 // One <object>: a top-level one (origin 0, its material written), or a csg
 // child, its position relative to the csg object's (origin) and its
 // material written only when it has its own.
-void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin);
+// `destination` is the file the text is for (mesh files are written relative to it).
+void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin,
+                 const std::filesystem::path& destination);
 
-void writeObject(XmlOut& x, const Object& o) {
-    writeObject(x, o.shape, o.material, true, glm::dvec3(0));
+void writeObject(XmlOut& x, const Object& o, const std::filesystem::path& destination) {
+    writeObject(x, o.shape, o.material, true, glm::dvec3(0), destination);
 }
 
-void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin) {
+void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin,
+                 const std::filesystem::path& destination) {
+    const Mesh* mesh = std::get_if<Mesh>(&shape);
+    const Mesh::FileSource* source = mesh && mesh->source ? &*mesh->source : nullptr;
     x.open("object");
     // Triangles and meshes are written in world space without a position,
     // unless their checker is anchored elsewhere: then at the checker's
     // origin, vertices relative to it.
     bool hasVertices = std::holds_alternative<Triangle>(shape) || std::holds_alternative<Mesh>(shape);
     glm::dvec3 vertexOrigin(0);
-    if (hasVertices && m.checkerSize > 0 && m.checkerOrigin != glm::dvec3(0)) {
+    if (source) {
+        x.vector("position", source->position);  // a model file: its placement, not its triangles
+    } else if (hasVertices && m.checkerSize > 0 && m.checkerOrigin != glm::dvec3(0)) {
         vertexOrigin = m.checkerOrigin;
         x.vector("position", vertexOrigin);
     }
@@ -132,6 +151,10 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
             } else if constexpr (std::is_same_v<T, Csg>) {
                 static const char* kOperations[] = {"union", "intersection", "difference"};
                 x.value("operation", kOperations[int(s.operation)]);
+            } else if (source) {
+                x.value("file", meshFileText(*source, destination));
+                if (source->scale != glm::dvec3(1)) x.vector("scale", source->scale);
+                if (source->rotationDegrees != glm::dvec3(0)) x.vector("rotation", source->rotationDegrees);
             } else {
                 x.open("polygons");
                 for (const Triangle& t : s.triangles) {
@@ -147,7 +170,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
     if (const Csg* csg = std::get_if<Csg>(&shape)) {
         x.open("objects");
         for (const CsgChild& child : csg->children)
-            writeObject(x, child.shape, child.material, child.ownMaterial, csg->position);
+            writeObject(x, child.shape, child.material, child.ownMaterial, csg->position, destination);
         x.close("objects");
     }
     x.close("object");
@@ -166,7 +189,7 @@ std::string sceneCameraXml(const Camera& camera, int indent) {
     return x.str();
 }
 
-std::string sceneXml(const Scene& scene) {
+std::string sceneXml(const Scene& scene, const std::filesystem::path& destination) {
     XmlOut x;
     x.line("<?xml version=\"1.0\" encoding=\"utf-8\"?>");
     x.open("scene");
@@ -181,14 +204,14 @@ std::string sceneXml(const Scene& scene) {
     }
     x.close("lights");
     x.open("objects");
-    for (const Object& o : scene.objects) writeObject(x, o);
+    for (const Object& o : scene.objects) writeObject(x, o, destination);
     x.close("objects");
     x.close("scene");
     return x.str();
 }
 
 void writeSceneFile(const Scene& scene, const std::filesystem::path& path) {
-    writeTextFile(path, sceneXml(scene));
+    writeTextFile(path, sceneXml(scene, path));
 }
 
 }  // namespace whitted

@@ -11,6 +11,14 @@
 namespace whitted {
 namespace {
 
+// Where a checker switched on in the panel starts its cells: where the
+// loader anchors them, the object's <position> (a model file's placement,
+// the reference point of every other shape), so the saved file reloads it.
+glm::dvec3 checkerAnchor(const Shape& s) {
+    if (const Mesh* mesh = std::get_if<Mesh>(&s); mesh && mesh->source) return mesh->source->position;
+    return shapeReferencePoint(s);
+}
+
 const char* shapeName(const Shape& s) {
     static const char* kNames[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh", "csg"};
     return kNames[s.index()];
@@ -78,6 +86,8 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
     // Anchored to the top right corner, sized to what it shows.
     ImGui::SetNextWindowPos(ImVec2(vp->Size.x - 8, 8), ImGuiCond_Always, ImVec2(1, 0));
     ImGui::SetNextWindowBgAlpha(0.85f);
+    // No taller than the window: a long list of fields scrolls instead.
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(vp->Size.x, std::max(vp->Size.y - 16, 64.0f)));
     if (!ImGui::Begin("Scene (F1 hides)", &state.visible, ImGuiWindowFlags_AlwaysAutoResize)) {
         ImGui::End();
         return result;
@@ -146,6 +156,18 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         result.changed |= editScalar("reflection kr", m.reflection, 0, 1);
         result.changed |= editScalar("transmission kt", m.transmission, 0, 1);
         result.changed |= editScalar("IOR (refraction_coef)", m.ior, 1, 3);
+        // The checker (<checker_color>, <checker_size>): switched on, size
+        // 1 from checkerAnchor; switched off, size 0.
+        bool checker = m.checkerSize > 0;
+        if (ImGui::Checkbox("checker", &checker)) {
+            if (checker) {
+                m.checkerSize = 1.0;
+                m.checkerOrigin = checkerAnchor(o.shape);
+            } else {
+                m.checkerSize = 0.0;
+            }
+            result.changed = true;
+        }
         if (m.checkerSize > 0) {
             result.changed |= editColour("checker colour", m.checkerColor, false);
             float size = float(m.checkerSize);
@@ -154,6 +176,8 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
                 result.changed = true;
             }
         }
+        // Beer-Lambert sigma per unit length (<absorption>): any value >= 0.
+        result.changed |= editColour("absorption", m.absorption, true);
     } else {
         ImGui::TextDisabled("select a light or an object");
     }
@@ -186,13 +210,32 @@ std::optional<std::string> setObjectField(Scene& scene, int object, const std::s
         csg->operation = Csg::Operation(int(value));
         return std::nullopt;
     }
+    // The checker's size (0 removes it; a new one starts at the reference
+    // point), its colour and the absorption, one channel at a time.
+    if (field == "checker_size") {
+        if (value < 0 || value > 1e6) return std::string("checker_size must be in [0, 1e6]");
+        if (m.checkerSize == 0 && value > 0) m.checkerOrigin = checkerAnchor(o.shape);
+        m.checkerSize = value;
+        return std::nullopt;
+    }
+    for (int c = 0; c < 3; ++c) {
+        const char* channel[] = {"r", "g", "b"};
+        if (field == std::string("checker_") + channel[c]) return unit(m.checkerColor[c]);
+        if (field == std::string("absorption_") + channel[c]) {
+            if (value < 0 || value > 1e6) return field + " must be in [0, 1e6]";
+            m.absorption[c] = value;
+            return std::nullopt;
+        }
+    }
     if (field == "kt") return unit(m.transmission);
     if (field == "kr") return unit(m.reflection);
     if (field == "ks") return unit(m.specular);
     if (field == "kd") return unit(m.diffuse);
     if (field == "ka") return unit(m.ambient);
     int axis = field == "x" ? 0 : field == "y" ? 1 : field == "z" ? 2 : -1;
-    if (axis < 0) return "unknown field '" + field + "' (ior, kt, kr, ks, kd, ka, x, y, z, operation)";
+    if (axis < 0)
+        return "unknown field '" + field +
+               "' (ior, kt, kr, ks, kd, ka, x, y, z, operation, checker_size, checker_r|g|b, absorption_r|g|b)";
     glm::dvec3 p = shapeReferencePoint(o.shape), target = p;
     target[axis] = value;
     m.checkerOrigin += target - p;
@@ -223,12 +266,14 @@ void translateShape(Shape& shape, const glm::dvec3& d) {
                     child.material.checkerOrigin += d;
                     translateShape(child.shape, d);
                 }
-            } else
+            } else {
                 for (Triangle& t : s.triangles) {
                     t.v0 += d;
                     t.v1 += d;
                     t.v2 += d;
                 }
+                if (s.source) s.source->position += d;
+            }
         },
         shape);
 }

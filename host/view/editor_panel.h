@@ -39,9 +39,11 @@ struct EditorResult {
 EditorResult drawEditorPanel(Scene& scene, EditorState& state);
 
 // One field of an object, as the panel sets it: ior, kt, kr, ks, kd, ka (the
-// material) or x, y, z (moves the shape so its reference point has that
-// coordinate), or a csg object's operation (0 union, 1 intersection, 2
-// difference). Returns an error text for a bad index, field or value.
+// material), checker_size (0: no checker), checker_r|g|b (its colour),
+// absorption_r|g|b (sigma per unit length), x, y, z (moves the shape so its
+// reference point has that coordinate) or a csg object's operation (0 union,
+// 1 intersection, 2 difference). Returns an error text for a bad index,
+// field or value.
 std::optional<std::string> setObjectField(Scene& scene, int object, const std::string& field, double value);
 
 // Moves a shape by `delta` (every point of it).

@@ -42,13 +42,13 @@ struct LayerView {
     gpu::DisplayParams params;
 };
 
-std::vector<LayerView> layerViews(int width, int height) {
+std::vector<LayerView> layerViews(int width, int height, int bounces) {
     glm::uvec4 size(width, height, 0, 0);
     auto make = [&](const char* name, uint32_t kind, uint32_t layer, uint32_t channel, float scale) {
         return LayerView{
             name, {.view = glm::uvec4(kind, layer, channel, 0), .size = size, .scale = glm::vec4(scale, 1, 0, 0)}};
     };
-    return {make("color", gpu::kDisplayColor, gpu::kAovColor, 0, 1),
+    std::vector<LayerView> views = {make("color", gpu::kDisplayColor, gpu::kAovColor, 0, 1),
             make("ambient", gpu::kDisplayColor, gpu::kAovAmbient, 0, 1),
             make("diffuse", gpu::kDisplayColor, gpu::kAovDiffuse, 0, 1),
             make("specular", gpu::kDisplayColor, gpu::kAovSpecular, 0, 1),
@@ -62,6 +62,14 @@ std::vector<LayerView> layerViews(int width, int height) {
             make("ior", gpu::kDisplayScalar, gpu::kAovCoefs1, 2, 1.0f / 3.0f),
             make("depth", gpu::kDisplayDepth, gpu::kAovCoefs0, 3, 1),
             make("normal", gpu::kDisplayNormal, gpu::kAovNormal, 0, 1)};
+    // --aov-bounces: the split images after "transmission", as --aov all orders them.
+    std::vector<LayerView> split;
+    for (int part = 0; part < 2; ++part)
+        for (int k = 1; k <= bounces; ++k)
+            split.push_back(make((std::string(part == 0 ? "reflection." : "transmission.") + std::to_string(k)).c_str(),
+                                 gpu::kDisplayColor, gpu::kAovCount + uint32_t(part * bounces + k - 1), 0, 1));
+    views.insert(views.begin() + 6, split.begin(), split.end());
+    return views;
 }
 
 void writeRgba8Png(const std::filesystem::path& path, const Rgba8Image& image) {
@@ -97,8 +105,9 @@ public:
           camera_(scene_.camera, sceneRadius(scene_)),
           progressive_(renderer_.width(), renderer_.height(), uint32_t(options.settings.samplesPerPixel),
                        options.targetFrameMs / 1000.0),
-          watcher_(options.scene, std::chrono::milliseconds(250)),
-          layers_(layerViews(renderer_.width(), renderer_.height())) {
+          // A quick look does not watch (nor hold a copy of) the model file.
+          watcher_(options.sceneOut ? *options.sceneOut : options.scene, std::chrono::milliseconds(250)),
+          layers_(layerViews(renderer_.width(), renderer_.height(), options.settings.aovBounces)) {
         window_.setInputSink(this);
         camera_.takeChanged();  // the file's camera, already uploaded
         depthScale_ = float(sceneRadius(scene_));
@@ -299,6 +308,7 @@ void ViewApp::flyFromKeys(double seconds) {
 // A changed file is loaded in full; a refused one leaves the last good scene
 // in place and its FILE:LINE message on screen until a good version arrives.
 void ViewApp::checkReload() {
+    if (options_.sceneOut) return;  // a quick look: the model file is not a scene to reload
     std::optional<std::string> text = watcher_.poll();
     if (!text) return;
     ++reloadCount_;
@@ -324,7 +334,7 @@ void ViewApp::checkReload() {
 
 void ViewApp::saveImages() {
     RenderResult result = renderer_.readMeans();
-    std::vector<std::string> aovs = parseAovList("all");
+    std::vector<std::string> aovs = parseAovList("all", renderer_.settings().aovBounces);
     std::filesystem::path folder = writeHistoryFolder(options_.historyRoot, [&](const std::filesystem::path& staging) {
         std::vector<std::filesystem::path> files =
             writeRenderImages(result, staging / "image.png", aovs, Tonemap::Clamp);
@@ -352,11 +362,12 @@ void ViewApp::saveImages() {
 void ViewApp::saveScene() {
     Scene shown = scene_;
     shown.camera = camera_.camera();
-    std::string text = sceneXml(shown);
-    writeTextFile(options_.scene, text);
-    watcher_.markSeen(text);
-    overlay_.status = "saved " + options_.scene.string();
-    log("saved scene to " + options_.scene.string());
+    const std::filesystem::path& target = options_.sceneOut ? *options_.sceneOut : options_.scene;
+    std::string text = sceneXml(shown, target);
+    writeTextFile(target, text);
+    if (!options_.sceneOut) watcher_.markSeen(text);
+    overlay_.status = "saved " + target.string();
+    log("saved scene to " + target.string());
 }
 
 void ViewApp::writeScreenshot(const std::filesystem::path& path, bool window) {

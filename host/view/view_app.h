@@ -17,6 +17,9 @@ namespace whitted {
 
 struct ViewOptions {
     std::filesystem::path scene;
+    // Where Ctrl+S writes the scene when not over `scene` (a quick look of a
+    // model file); then `scene` is not watched for changes either.
+    std::optional<std::filesystem::path> sceneOut;
     RenderSettings settings;  // samplesPerPixel = the sample budget; auxiliary always on
     std::string device;
     bool validation = false;

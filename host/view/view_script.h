@@ -12,8 +12,9 @@
 //   copy FROM TO          copy a file (an edit of the watched scene)
 //   replace FILE OLD NEW  replace the first OLD by NEW in FILE, written in place
 //   edit OBJECT FIELD V   what the editor panel does: object index, field
-//                         ior | kt | kr | ks | kd | ka | x | y | z | operation
-//                         (csg: 0 union, 1 intersection, 2 difference), value
+//                         ior | kt | kr | ks | kd | ka | x | y | z | checker_size |
+//                         checker_r|g|b | absorption_r|g|b | operation (csg: 0 union,
+//                         1 intersection, 2 difference), value
 //   select light|object N select an entry in the editor panel (shows its fields)
 //   layer NAME            show an auxiliary image (color = the main image)
 //   screenshot FILE       write the image shown (without overlay) as PNG

@@ -1,0 +1,165 @@
+// Quick looks (host/app/quick_look.*): a model file given where a scene is
+// expected is framed by a generated camera, lit and put on a floor; the
+// scene written for it references the model and renders the same image.
+#include "test_support.h"
+
+#include "app/quick_look.h"
+#include "io/image_io.h"
+#include "scene/scene_loader.h"
+#include "scene/scene_writer.h"
+#include "view/editor_panel.h"
+
+#include <fstream>
+#include <sstream>
+
+namespace whitted::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scratchDir(const std::string& name) {
+    fs::path dir = outputDir() / "quick_look" / name;
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string readText(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+CommandRun runWhitted(const std::string& args, const fs::path& cwd) {
+    return runCommand("'" WHITTED_EXECUTABLE "' " + args, cwd);
+}
+
+TEST(QuickLook, SceneFilesAreTheXmlOnes) {
+    EXPECT_TRUE(isSceneFile("a/room.xml"));
+    EXPECT_TRUE(isSceneFile("ROOM.XML"));
+    EXPECT_FALSE(isSceneFile("bunny.obj"));
+    EXPECT_FALSE(isSceneFile("model.glb"));
+    EXPECT_FALSE(isSceneFile("noextension"));
+    EXPECT_EQ(quickLookScenePath("m/bunny.obj"), fs::path("m/bunny.obj.whitted.xml"));
+}
+
+// The model alone (floor left out), 160x120: its pixels are a reasonable
+// central part of the image and touch no border. Our test meshes, and glTF
+// binaries (y up) from Debian's assimp-testmodels (tools/install_deps.sh).
+TEST(QuickLook, ModelIsInFrame) {
+    const fs::path meshes = sourceDir() / "tests" / "meshes", gltf = "/usr/share/assimp/models/glTF2";
+    for (fs::path model : {meshes / "pyramid.obj", meshes / "pyramid.ply", meshes / "uv_sphere_12x24.obj",
+                           gltf / "BoxTextured-glTF-Binary" / "BoxTextured.glb",
+                           gltf / "2CylinderEngine-glTF-Binary" / "2CylinderEngine.glb"}) {
+        SCOPED_TRACE(model.string());
+        ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
+        Scene scene = quickLookScene(model);
+        ASSERT_EQ(scene.objects.size(), 2u);
+        ASSERT_TRUE(std::holds_alternative<Mesh>(scene.objects[0].shape));
+        ASSERT_TRUE(std::holds_alternative<Plane>(scene.objects[1].shape));
+        EXPECT_EQ(scene.lights.size(), 2u);
+        if (model.extension() != ".glb") EXPECT_TRUE(scene.warnings.empty());  // the engine has degenerate triangles
+        // No colour of its own: the material an XML mesh without <diffuse_color> gets.
+        EXPECT_EQ(scene.objects[0].material.diffuseColor, Material{}.diffuseColor);
+        EXPECT_EQ(scene.objects[0].material.specularColor, Material{}.specularColor);
+        scene.objects.pop_back();
+        RenderResult r = renderScene(scene, {.width = 160, .height = 120, .samplesPerPixel = 1, .maxDepth = 2,
+                                             .auxiliary = true});
+        int hits = 0;
+        double cx = 0, cy = 0;
+        for (int y = 0; y < 120; ++y)
+            for (int x = 0; x < 160; ++x) {
+                if (pixel(r, gpu::kAovCoefs1, x, y).w == 0) continue;
+                ++hits, cx += x + 0.5, cy += y + 0.5;
+                EXPECT_TRUE(x > 0 && y > 0 && x < 159 && y < 119)
+                    << "the model touches the border at " << x << "," << y;
+            }
+        double share = hits / (160.0 * 120.0);
+        EXPECT_GT(share, 0.05);
+        EXPECT_LT(share, 0.6);
+        EXPECT_NEAR(cx / hits, 80, 20);
+        EXPECT_NEAR(cy / hits, 60, 20);
+    }
+}
+
+// The scene written for a quick look references the model (no inline
+// triangles) and renders exactly the same image, smooth normals included.
+TEST(QuickLook, WrittenSceneRendersTheSameImage) {
+    fs::path dir = scratchDir("written");
+    fs::copy_file(sourceDir() / "tests" / "meshes" / "uv_sphere_12x24.obj", dir / "sphere.obj");
+    Scene scene = quickLookScene(dir / "sphere.obj");
+    EXPECT_EQ(scene.sourcePath, dir / "sphere.obj.whitted.xml");
+    writeSceneFile(scene, dir / "sphere.obj.whitted.xml");
+    std::string text = readText(dir / "sphere.obj.whitted.xml");
+    EXPECT_NE(text.find("<file>sphere.obj</file>"), std::string::npos) << text;
+    EXPECT_EQ(text.find("<polygons>"), std::string::npos);
+    Scene loaded = loadScene(dir / "sphere.obj.whitted.xml");
+    RenderSettings s{.width = 80, .height = 60, .samplesPerPixel = 2, .maxDepth = 4, .auxiliary = true};
+    RenderResult a = renderScene(scene, s), b = renderScene(loaded, s);
+    for (uint32_t l = 0; l < gpu::kAovCount; ++l) EXPECT_TRUE(a.layers[l] == b.layers[l]) << "layer " << l;
+
+    // Edited as the window's panel does (moved, a checker switched on): the
+    // file keeps the reference, and the placement and checker survive.
+    ASSERT_FALSE(setObjectField(scene, 0, "y", 0.25));
+    ASSERT_FALSE(setObjectField(scene, 0, "checker_size", 0.3));
+    ASSERT_FALSE(setObjectField(scene, 0, "checker_r", 0.2));
+    writeSceneFile(scene, dir / "edited.xml");
+    EXPECT_NE(readText(dir / "edited.xml").find("<file>sphere.obj</file>"), std::string::npos);
+    Scene edited = loadScene(dir / "edited.xml");
+    EXPECT_EQ(edited.objects[0].material.checkerOrigin, scene.objects[0].material.checkerOrigin);
+    RenderResult c = renderScene(scene, s), d = renderScene(edited, s);
+    EXPECT_FALSE(c.layers[gpu::kAovColor] == a.layers[gpu::kAovColor]) << "the edits changed nothing";
+    for (uint32_t l = 0; l < gpu::kAovCount; ++l) {
+        ASSERT_EQ(c.layers[l].size(), d.layers[l].size());
+        for (size_t i = 0; i < c.layers[l].size(); ++i)  // moved: vertices re-placed from the file, within rounding
+            ASSERT_NEAR(c.layers[l][i], d.layers[l][i], 1e-3f) << "layer " << l << " value " << i;
+    }
+}
+
+// The command line: a model renders (into -o or a history folder whose
+// scene.xml is the generated scene), bad models exit 2 with the reason.
+TEST(QuickLook, CommandLine) {
+    fs::path dir = scratchDir("cli");
+    fs::copy_file(sourceDir() / "tests" / "meshes" / "pyramid.ply", dir / "pyramid.ply");
+    const std::string size = " --width 64 --height 48 --validate";
+    CommandRun r = runWhitted("render pyramid.ply -o out.png --aov depth" + size, dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_TRUE(fs::exists(dir / "out.png"));
+    EXPECT_TRUE(fs::exists(dir / "out.depth.png"));
+    EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+
+    r = runWhitted("render pyramid.ply --aov none" + size, dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::vector<fs::path> entries;
+    for (const auto& e : fs::directory_iterator(dir / "renders")) entries.push_back(e.path());
+    ASSERT_EQ(entries.size(), 1u);
+    Scene copy = loadScene(entries[0] / "scene.xml");  // the generated scene, the model found from there
+    EXPECT_EQ(copy.objects.size(), 2u);
+    EXPECT_NE(readText(entries[0] / "scene.xml").find("<file>../../pyramid.ply</file>"), std::string::npos);
+
+    fs::path meshes = sourceDir() / "tests" / "meshes";
+    r = runWhitted("render '" + (meshes / "garbage.ply").string() + "' -o bad.png" + size, dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find((meshes / "garbage.ply").string() +
+                            ": mesh file \"garbage.ply\" could not be read: Invalid .ply file: Incorrect magic number "
+                            "(expected 'ply' or 'PLY')."),
+              std::string::npos)
+        << r.output;
+    r = runWhitted("render missing.obj -o bad.png" + size, dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("missing.obj: cannot read file: it does not exist"), std::string::npos) << r.output;
+    r = runWhitted("render '" + (meshes / "lines_only.obj").string() + "' -o bad.png" + size, dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("lines_only.obj: mesh file \"lines_only.obj\""), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "bad.png"));
+    // The window refuses it before opening (no X server needed).
+    r = runWhitted("view '" + (meshes / "truncated.ply").string() + "'", dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_NE(r.output.find("truncated.ply: mesh file \"truncated.ply\" could not be read"), std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(meshes / "truncated.ply.whitted.xml"));
+}
+
+}  // namespace
+}  // namespace whitted::test
