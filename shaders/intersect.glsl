@@ -11,6 +11,7 @@
 #include "scene.glsl"
 #include "material.glsl"
 #include "shapes/primitive.glsl"
+#include "texture.glsl"
 
 // Entry distance of the ray into a node's box within [0, tMax], or -1.
 float intersectNodeBounds(BvhNode node, vec3 origin, vec3 invDir, float tMax) {
@@ -99,6 +100,13 @@ bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shad
             // The pigment at the crossing, as POV-Ray's filter takes it.
             vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz,
                               ray.origin + t * ray.dir);
+            // A textured surface filters by its texture too, at mip level 0
+            // (a shadow ray carries no cone).
+            uint slot = materials[k].textureSlots.x;
+            if (slot != kNoTexture) {
+                SurfaceUv s = surfaceUv(primitives[i], i, n, ray.origin + t * ray.dir, materials[k].textureParams.x);
+                cd *= textureColor(slot, s.uv, 0.0);
+            }
             transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
             opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
         }

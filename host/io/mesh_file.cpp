@@ -56,9 +56,11 @@ MeshFileData readMeshFile(const std::filesystem::path& path) {
     }
 
     MeshFileData data;
-    bool anyNormals = false;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m)
+    bool anyNormals = false, anyUvs = false;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
         if (scene->mMeshes[m]->HasNormals()) anyNormals = true;
+        if (scene->mMeshes[m]->HasTextureCoords(0)) anyUvs = true;
+    }
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
         const aiMesh* mesh = scene->mMeshes[m];
         for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
@@ -75,6 +77,15 @@ MeshFileData readMeshFile(const std::filesystem::path& path) {
                 }
             }
             data.triangles.push_back(triangle);
+            if (anyUvs) {
+                std::array<glm::dvec2, 3> uv{};
+                if (mesh->HasTextureCoords(0))
+                    for (int k = 0; k < 3; ++k) {
+                        const aiVector3D& t = mesh->mTextureCoords[0][face.mIndices[k]];
+                        uv[k] = std::isfinite(t.x) && std::isfinite(t.y) ? glm::dvec2(t.x, t.y) : glm::dvec2(0.0);
+                    }
+                data.uvs.push_back(uv);
+            }
             if (!anyNormals) continue;
             // The geometric normal stands in for missing or unusable ones.
             glm::dvec3 cross = glm::cross(triangle[1] - triangle[0], triangle[2] - triangle[0]);

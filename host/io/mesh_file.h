@@ -26,9 +26,14 @@ public:
 // (the file has none: flat shading) or holds three unit vertex normals per
 // triangle; a triangle of a file that gives normals for only some of its
 // meshes, or a zero or non-finite one, gets its geometric normal (flat).
+// uvs is empty when no mesh of the file has texture coordinates, else it
+// holds each triangle's first UV channel (Assimp's convention: v up, (0, 0)
+// at the image's bottom-left corner, glTF's flipped to it); a triangle of a
+// mesh without them gets (0, 0).
 struct MeshFileData {
     std::vector<std::array<glm::dvec3, 3>> triangles;
     std::vector<std::array<glm::dvec3, 3>> normals;
+    std::vector<std::array<glm::dvec2, 3>> uvs;
 };
 
 // Reads every triangle of `path`; points and lines are dropped, polygons are

@@ -1,6 +1,7 @@
 #include "scene/scene_loader.h"
 
 #include "io/mesh_file.h"
+#include "io/texture_file.h"
 
 #include <tinyxml2.h>
 
@@ -14,6 +15,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <optional>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -304,6 +307,8 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"checker_color"},
                                                {"checker_size"},
                                                {"absorption"},
+                                               {"diffuse_texture"},
+                                               {"texture_scale"},
                                                {"radius"},
                                                {"height"},
                                                {"axis"},
@@ -556,6 +561,7 @@ private:
         result.sourceLine = e->GetLineNum();
         result.material = readMaterial(object, properties);
         result.shape = readShape(type, object, properties);
+        readTextures(type, properties, result);
         // A checker is anchored at the object's position (the origin without one).
         const XMLElement* position = object.optional("position");
         if (position && result.material.checkerSize > 0) result.material.checkerOrigin = vector(position);
@@ -565,6 +571,43 @@ private:
         if (const XMLElement* extra = properties.firstUnused())
             diag_.fail(extra, tag(extra->Name()) + " does not apply to type " + type);
         return result;
+    }
+
+    // ---- Textures ----
+
+    // <diffuse_texture> on every type but triangle (which has no texture
+    // coordinates; a mesh of one polygon with <uv> has), <texture_scale> on
+    // planes only (README "Textures"). Left unread elsewhere, they are
+    // reported as not applying to the type.
+    void readTextures(const std::string& type, ElementReader& properties, Object& object) {
+        if (type == "triangle") return;
+        if (const XMLElement* e = properties.optional("diffuse_texture")) {
+            object.material.diffuseTexture = readTexture(e, TextureEncoding::Colour);
+            if (const Mesh* mesh = std::get_if<Mesh>(&object.shape); mesh && mesh->uvs.empty())
+                diag_.fail(e, "<diffuse_texture> on a mesh needs texture coordinates: the mesh file has none, or "
+                              "the <polygon>s have no <uv>");
+        }
+        if (type == "plane")
+            if (const XMLElement* e = properties.optional("texture_scale"))
+                object.material.textureScale = number(e, kPositive);
+    }
+
+    // A texture file, its path relative to the scene file's folder; each
+    // file is read once per scene.
+    TextureRef readTexture(const XMLElement* e, TextureEncoding encoding) {
+        std::string written = valueText(e);
+        if (written.empty()) diag_.fail(e, tag(e->Name()) + " is empty; expected the path of an image file");
+        std::filesystem::path path(written);
+        if (path.is_relative()) path = scene_.sourcePath.parent_path() / path;
+        auto& cached = textures_[{path, encoding}];
+        if (!cached) {
+            try {
+                cached = std::make_shared<const TextureData>(readTextureFile(path, encoding));
+            } catch (const TextureFileError& error) {
+                diag_.fail(e, "texture file \"" + written + "\" " + error.what());
+            }
+        }
+        return {written, cached};
     }
 
     Material readMaterial(ElementReader& object, ElementReader& properties) const {
@@ -739,9 +782,24 @@ private:
         ElementReader polygons(diag_, e, {{"polygon", true}});
         if (polygons.all("polygon").empty()) diag_.fail(e, "<polygons> has no <polygon>; a mesh needs at least one");
         Mesh mesh;
+        std::optional<bool> withUv;  // from the first polygon
         for (const XMLElement* polygon : polygons.all("polygon")) {
-            ElementReader vertices(diag_, polygon, {{"vertex", true}});
+            ElementReader vertices(diag_, polygon, {{"vertex", true}, {"uv", true}});
             Triangle local = readTriangle(polygon, vertices.all("vertex"), glm::dvec3(0));
+            // Texture coordinates: one <uv u=".." v=".."/> per vertex, in
+            // the vertices' order, on every polygon or on none.
+            const std::vector<const XMLElement*>& uvs = vertices.all("uv");
+            if (!uvs.empty() && uvs.size() != 3)
+                diag_.fail(polygon, "<polygon> has " + std::to_string(uvs.size()) + " <uv>, expected 3 (one per <vertex>)");
+            if (withUv && *withUv == uvs.empty())
+                diag_.fail(polygon, uvs.empty() ? "<polygon> has no <uv>, but the first <polygon> has"
+                                                : "<polygon> has <uv>, but the first <polygon> has none");
+            withUv = !uvs.empty();
+            std::array<glm::dvec2, 3> uv{};
+            for (size_t k = 0; k < uvs.size(); ++k) {
+                auto c = components(uvs[k], {{"u", kAnyValue}, {"v", kAnyValue}});
+                uv[k] = {c[0], c[1]};
+            }
             for (const glm::dvec3& v : {local.v0, local.v1, local.v2})
                 if (!placement.inRange(v)) diag_.fail(polygon, outOfRange(v));
             Triangle t{placement.point(local.v0), placement.point(local.v1), placement.point(local.v2)};
@@ -750,6 +808,7 @@ private:
                 continue;
             }
             mesh.triangles.push_back(t);
+            if (!uvs.empty()) mesh.uvs.push_back(uv);
         }
         if (mesh.triangles.empty()) diag_.fail(e, "every <polygon> in <polygons> is degenerate");
         return mesh;
@@ -782,6 +841,7 @@ private:
                 continue;
             }
             mesh.triangles.push_back(t);
+            if (!data.uvs.empty()) mesh.uvs.push_back(data.uvs[i]);
             if (!data.normals.empty()) {
                 const auto& n = data.normals[i];
                 mesh.normals.push_back({placement.normal(n[0]), placement.normal(n[1]), placement.normal(n[2])});
@@ -796,6 +856,7 @@ private:
 
     Diagnostics diag_;
     Scene& scene_;
+    std::map<std::pair<std::filesystem::path, TextureEncoding>, std::shared_ptr<const TextureData>> textures_;
 };
 
 // tinyxml2's ErrorStr() is "Error=NAME ErrorID=N (0xN) Line number=L: detail"
