@@ -159,7 +159,9 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     g.params.ambientLight = glm::vec4(glm::vec3(scene.ambientLight), 0.0f);
     g.params.sizes = glm::uvec4(g.width, g.height, g.primitives.size(), g.lights.size());
     g.params.options = glm::uvec4(settings.samplesPerPixel, settings.maxDepth,
-                                  settings.auxiliary ? gpu::kOptionWriteAovs : 0u, settings.seed);
+                                  (settings.auxiliary ? gpu::kOptionWriteAovs : 0u) |
+                                      (settings.textureLodZero ? gpu::kOptionTextureLodZero : 0u),
+                                  settings.seed);
     g.params.accel = glm::uvec4(g.bvhNodes.size(), bounded.size(), unbounded.size(), 0);
     return g;
 }
