@@ -193,5 +193,71 @@ TEST(TextureRender, RayConesFilterLikeSupersampling) {
     EXPECT_GE(filtered.mirror, plain.mirror + 12.0);
 }
 
+// ---- Bad input ------------------------------------------------------------
+// (Missing files, directories, <texture_scale> off a plane, meshes without
+// UVs and miscounted <uv> are in the tests/bad_scenes/ catalogue, run
+// through the executable.)
+
+std::string loadError(const std::string& xml, const fs::path& name) {
+    try {
+        loadSceneFromString(xml, name);
+    } catch (const SceneError& e) {
+        return e.what();
+    }
+    return "(loaded)";
+}
+
+const std::string kSphereWithTexture = R"(<scene>
+  <camera><position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/></camera>
+  <lights/>
+  <objects>
+    <object><position x="0" y="0" z="0"/>
+      <properties><type>sphere</type><radius>1</radius>
+        <diffuse_texture>TEXTURE</diffuse_texture></properties></object>
+  </objects>
+</scene>)";
+
+// A file that is not an image: the loader's place and OpenImageIO's reason.
+TEST(TextureLoader, RefusesAFileThatIsNotAnImage) {
+    fs::path dir = textureDir();
+    std::ofstream(dir / "garbage.png") << "not a PNG file\n";
+    std::string xml = kSphereWithTexture;
+    xml.replace(xml.find("TEXTURE"), 7, "garbage.png");
+    std::string error = loadError(xml, dir / "garbage.xml");
+    std::string expected = (dir / "garbage.xml").string() + ":7: texture file \"garbage.png\" could not be read: ";
+    EXPECT_EQ(error.substr(0, expected.size()), expected) << error;
+    EXPECT_GT(error.size(), expected.size()) << "OpenImageIO's reason follows";
+}
+
+// <uv> on every polygon of a mesh or on none; a texture on type triangle
+// (which has no texture coordinates) does not apply.
+TEST(TextureLoader, RefusesMixedUvsAndTexturedTriangles) {
+    fs::path dir = textureDir();
+    writeQuadrantTexture(dir / "quadrants.png");
+    std::string mixed = R"(<scene>
+  <camera><position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/></camera>
+  <lights/>
+  <objects>
+    <object><properties><type>mesh</type><polygons>
+      <polygon><vertex x="0" y="0" z="0"/><vertex x="1" y="0" z="0"/><vertex x="0" y="1" z="0"/>
+        <uv u="0" v="0"/><uv u="1" v="0"/><uv u="0" v="1"/></polygon>
+      <polygon><vertex x="1" y="0" z="0"/><vertex x="1" y="1" z="0"/><vertex x="0" y="1" z="0"/></polygon>
+    </polygons></properties></object>
+  </objects>
+</scene>)";
+    EXPECT_EQ(loadError(mixed, "mixed.xml"), "mixed.xml:8: <polygon> has no <uv>, but the first <polygon> has");
+    std::string triangle = R"(<scene>
+  <camera><position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/></camera>
+  <lights/>
+  <objects>
+    <object><properties><type>triangle</type>
+      <vertex x="0" y="0" z="0"/><vertex x="1" y="0" z="0"/><vertex x="0" y="1" z="0"/>
+      <diffuse_texture>quadrants.png</diffuse_texture></properties></object>
+  </objects>
+</scene>)";
+    EXPECT_EQ(loadError(triangle, dir / "triangle.xml"),
+              (dir / "triangle.xml").string() + ":7: <diffuse_texture> does not apply to type triangle");
+}
+
 }  // namespace
 }  // namespace whitted::test

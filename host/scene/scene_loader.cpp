@@ -582,10 +582,10 @@ private:
     void readTextures(const std::string& type, ElementReader& properties, Object& object) {
         if (type == "triangle") return;
         if (const XMLElement* e = properties.optional("diffuse_texture")) {
-            object.material.diffuseTexture = readTexture(e, TextureEncoding::Colour);
             if (const Mesh* mesh = std::get_if<Mesh>(&object.shape); mesh && mesh->uvs.empty())
                 diag_.fail(e, "<diffuse_texture> on a mesh needs texture coordinates: the mesh file has none, or "
                               "the <polygon>s have no <uv>");
+            object.material.diffuseTexture = readTexture(e, TextureEncoding::Colour);
         }
         if (type == "plane")
             if (const XMLElement* e = properties.optional("texture_scale"))
