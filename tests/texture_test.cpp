@@ -5,6 +5,7 @@
 #include "io/image_io.h"
 #include "io/texture_file.h"
 #include "scene/scene_loader.h"
+#include "scene/scene_writer.h"
 #include "test_support.h"
 
 #include <glm/gtc/packing.hpp>
@@ -191,6 +192,36 @@ TEST(TextureRender, RayConesFilterLikeSupersampling) {
     EXPECT_GE(filtered.mirror, 34.0);
     EXPECT_GE(filtered.floor, plain.floor + 10.0);
     EXPECT_GE(filtered.mirror, plain.mirror + 12.0);
+}
+
+// The window's Save (scene/scene_writer.h) keeps the texture elements: the
+// path as written, the plane's texture scale and each polygon's <uv>.
+TEST(TextureLoader, SceneWriterKeepsTextures) {
+    fs::path dir = textureDir();
+    writeQuadrantTexture(dir / "quadrants.png");
+    const std::string xml = R"(<scene>
+  <camera><position x="0" y="1" z="5"/><window_position x="0" y="1" z="4"/></camera>
+  <lights/>
+  <objects>
+    <object><position x="0" y="0" z="0"/><properties><type>plane</type><normal x="0" y="1" z="0"/>
+      <diffuse_texture>quadrants.png</diffuse_texture><texture_scale>0.25</texture_scale></properties></object>
+    <object><properties><type>mesh</type><diffuse_texture>quadrants.png</diffuse_texture><polygons>
+      <polygon><vertex x="0" y="0" z="0"/><vertex x="1" y="0" z="0"/><vertex x="0" y="1" z="0"/>
+        <uv u="0.125" v="0"/><uv u="1" v="0.5"/><uv u="0" v="1.75"/></polygon>
+    </polygons></properties></object>
+  </objects>
+</scene>)";
+    Scene a = loadSceneFromString(xml, dir / "writer_a.xml");
+    Scene b = loadSceneFromString(sceneXml(a), dir / "writer_b.xml");
+    ASSERT_EQ(b.objects.size(), 2u);
+    EXPECT_EQ(b.objects[0].material.diffuseTexture.written, "quadrants.png");
+    EXPECT_EQ(b.objects[0].material.textureScale, 0.25);
+    EXPECT_EQ(b.objects[1].material.diffuseTexture.written, "quadrants.png");
+    const Mesh& mesh = std::get<Mesh>(b.objects[1].shape);
+    ASSERT_EQ(mesh.uvs.size(), 1u);
+    EXPECT_EQ(mesh.uvs[0][0], glm::dvec2(0.125, 0));
+    EXPECT_EQ(mesh.uvs[0][1], glm::dvec2(1, 0.5));
+    EXPECT_EQ(mesh.uvs[0][2], glm::dvec2(0, 1.75));
 }
 
 // ---- Bad input ------------------------------------------------------------

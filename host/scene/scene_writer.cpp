@@ -98,6 +98,8 @@ void writeObject(XmlOut& x, const Object& o) {
         x.value("checker_size", m.checkerSize);
     }
     if (m.absorption != glm::dvec3(0)) x.colour("absorption", m.absorption);
+    // The texture's path as the scene file wrote it (relative to its folder).
+    if (m.diffuseTexture) x.value("diffuse_texture", m.diffuseTexture.written);
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
@@ -109,15 +111,19 @@ void writeObject(XmlOut& x, const Object& o) {
                 x.vector("axis", s.axis);
             } else if constexpr (std::is_same_v<T, Plane>) {
                 x.vector("normal", s.normal);
+                if (m.textureScale != 1.0) x.value("texture_scale", m.textureScale);
             } else if constexpr (std::is_same_v<T, Triangle>) {
                 writeTriangleVertices(x, s, vertexOrigin);
             } else if constexpr (std::is_same_v<T, Box>) {
                 x.vector("size", s.max - s.min);
             } else {
                 x.open("polygons");
-                for (const Triangle& t : s.triangles) {
+                for (size_t i = 0; i < s.triangles.size(); ++i) {
                     x.open("polygon");
-                    writeTriangleVertices(x, t, vertexOrigin);
+                    writeTriangleVertices(x, s.triangles[i], vertexOrigin);
+                    if (!s.uvs.empty())
+                        for (const glm::dvec2& uv : s.uvs[i])
+                            x.line("<uv u=\"" + number(uv.x) + "\" v=\"" + number(uv.y) + "\"/>");
                     x.close("polygon");
                 }
                 x.close("polygons");
