@@ -3,6 +3,7 @@
 // and bad input. The POV-Ray cross-checks of the spherical map and of mesh
 // UVs are in tests/povray_test.cpp (PovrayCrossCheck.Textured*).
 #include "io/image_io.h"
+#include "io/mesh_file.h"
 #include "io/texture_file.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
@@ -222,6 +223,65 @@ TEST(TextureLoader, SceneWriterKeepsTextures) {
     EXPECT_EQ(mesh.uvs[0][0], glm::dvec2(0.125, 0));
     EXPECT_EQ(mesh.uvs[0][1], glm::dvec2(1, 0.5));
     EXPECT_EQ(mesh.uvs[0][2], glm::dvec2(0, 1.75));
+}
+
+// ---- Materials from model files ------------------------------------------
+
+// Khronos' BoxTextured sample in Debian's assimp-testmodels package (see
+// tools/install_deps.sh): a cube whose glTF material has a base-colour
+// texture (the Cesium logo: white, blue and green) embedded in the GLB.
+const fs::path kBoxTextured = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+
+std::string boxXml(const std::string& colour) {
+    return R"(<scene>
+  <camera><position x="1.6" y="1.3" z="2.2"/><window_position x="1.1" y="0.9" z="1.5"/><fov>40</fov>
+    <width>96</width><height>72</height></camera>
+  <ambient_light r="1" g="1" b="1"/>
+  <lights/>
+  <objects>
+    <object>)" + colour + R"(<properties><type>mesh</type><file>)" + kBoxTextured.string() + R"(</file>
+      <ambiente_coef>1</ambiente_coef><diffuse_coef>0</diffuse_coef></properties></object>
+  </objects>
+</scene>)";
+}
+
+TEST(ModelMaterials, GlbBaseColourTextureIsUsedWhenTheSceneSetsNoColour) {
+    ASSERT_TRUE(fs::exists(kBoxTextured)) << kBoxTextured << " is missing: install assimp-testmodels (tools/install_deps.sh)";
+    MeshFileData data = readMeshFile(kBoxTextured, MeshFileMaterials::Read);
+    ASSERT_EQ(data.triangleMaterials.size(), data.triangles.size());
+    ASSERT_LT(data.triangleMaterials[0], data.materials.size());
+    const MeshFileMaterial& material = data.materials[data.triangleMaterials[0]];
+    ASSERT_TRUE(material.baseColourTexture) << "the embedded texture *0";
+    EXPECT_EQ(material.baseColourTexture->levels[0].width, 211);  // CesiumLogoFlat.png, 211x211
+    EXPECT_EQ(data.uvs.size(), data.triangles.size());
+
+    // Ambient light only, ka = 1: every pixel of the box shows base colour
+    // times texture. The logo's three colours must all appear.
+    RenderResult textured = renderScene(loadSceneFromString(boxXml(""), "box.xml"),
+                                        {.samplesPerPixel = 4, .maxDepth = 0, .auxiliary = true});
+    int box = 0, blue = 0, green = 0, white = 0;
+    for (int y = 0; y < textured.height; ++y)
+        for (int x = 0; x < textured.width; ++x) {
+            if (pixel(textured, gpu::kAovCoefs1, x, y).w < 1.0f) continue;
+            glm::vec4 c = pixel(textured, gpu::kAovColor, x, y);
+            ++box;
+            blue += c.b > c.r + 0.2f && c.b > c.g;
+            green += c.g > c.r + 0.1f && c.g > c.b + 0.1f;
+            white += c.r > 0.7f && c.g > 0.7f && c.b > 0.7f;
+        }
+    std::printf("[ texture  ] BoxTextured.glb: %d box pixels, %d blue, %d green, %d white\n", box, blue, green, white);
+    EXPECT_GT(box, 96 * 72 / 5);
+    EXPECT_GT(blue, box / 20);
+    EXPECT_GT(green, box / 20);
+    EXPECT_GT(white, box / 20);
+
+    // A colour of the scene's own wins: then the box is flat white.
+    RenderResult flat = renderScene(loadSceneFromString(boxXml(R"(<diffuse_color r="1" g="1" b="1"/>)"), "box.xml"),
+                                    {.samplesPerPixel = 4, .maxDepth = 0, .auxiliary = true});
+    for (int y = 0; y < flat.height; ++y)
+        for (int x = 0; x < flat.width; ++x)
+            if (pixel(flat, gpu::kAovCoefs1, x, y).w == 1.0f)
+                for (int c = 0; c < 3; ++c) ASSERT_NEAR(pixel(flat, gpu::kAovColor, x, y)[c], 1.0f, 1e-6f) << x << "," << y;
 }
 
 // ---- Bad input ------------------------------------------------------------

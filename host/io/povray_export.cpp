@@ -55,7 +55,7 @@ std::string imageMap(const Material& m, const Shape& shape) {
 }
 
 bool exportsTexture(const Material& m, const Shape& shape) {
-    return m.diffuseTexture && m.diffuseTexture.data->name.find('.') != std::string::npos &&
+    return m.diffuseTexture && !m.diffuseTexture.written.empty() &&
            (std::holds_alternative<Sphere>(shape) || std::holds_alternative<Mesh>(shape));
 }
 

@@ -119,8 +119,12 @@ TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::s
     if (format.empty() && bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8) format = "jpg";
     if (format.empty()) throw TextureFileError("is in a format that was not recognised (expected PNG or JPEG)");
     OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes.data()), bytes.size());
-    OIIO::ImageSpec config;
-    auto in = OIIO::ImageInput::open("embedded." + format, &config, &reader);
+    auto in = OIIO::ImageInput::create(format);
+    OIIO::ImageSpec spec;
+    if (in && (!in->set_ioproxy(&reader) || !in->open("embedded." + format, spec))) {
+        std::string reason = in->geterror();
+        throw TextureFileError("could not be read: " + (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
+    }
     if (!in) {
         std::string reason = OIIO::geterror();
         throw TextureFileError("could not be read: " + (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));

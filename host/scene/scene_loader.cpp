@@ -544,13 +544,21 @@ private:
 
     void readObjects(const XMLElement* e) {
         ElementReader objects(diag_, e, {{"object", true}});
-        for (const XMLElement* object : objects.all("object")) scene_.objects.push_back(readObject(object));
+        for (const XMLElement* object : objects.all("object"))
+            for (Object& o : readObject(object)) scene_.objects.push_back(std::move(o));
         if (scene_.objects.empty()) diag_.warn(e, "scene has no objects; the image will be black");
     }
 
-    Object readObject(const XMLElement* e) {
+    // One object, or for a model file with materials of its own, used when
+    // the scene gives the object no colour (README "Model files"), one per
+    // material of the file.
+    std::vector<Object> readObject(const XMLElement* e) {
         ElementReader object(diag_, e, {{"position"}, {"diffuse_color"}, {"specular_color"}, {"properties"}});
         ElementReader properties(diag_, object.required("properties"), kPropertyRules);
+        wantFileMaterials_ = !e->FirstChildElement("diffuse_color") &&
+                             !properties.element()->FirstChildElement("diffuse_texture");
+        fileMaterials_.clear();
+        fileTriangleMaterials_.clear();
 
         const XMLElement* typeElement = properties.required("type");
         std::string type = valueText(typeElement);
@@ -570,7 +578,35 @@ private:
         // belongs to another type.
         if (const XMLElement* extra = properties.firstUnused())
             diag_.fail(extra, tag(extra->Name()) + " does not apply to type " + type);
-        return result;
+        if (fileMaterials_.empty()) return {std::move(result)};
+        return splitByFileMaterial(std::move(result));
+    }
+
+    // A model file's triangles grouped by their material, each group an
+    // object with the scene's material but the file's base colour and
+    // texture (the texture where the file has texture coordinates).
+    std::vector<Object> splitByFileMaterial(Object whole) {
+        const Mesh& mesh = std::get<Mesh>(whole.shape);
+        std::vector<Object> parts;
+        for (uint32_t k = 0; k < fileMaterials_.size(); ++k) {
+            Object part;
+            part.sourceLine = whole.sourceLine;
+            part.material = whole.material;
+            part.material.diffuseColor = fileMaterials_[k].baseColour;
+            Mesh piece;
+            for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+                if (fileTriangleMaterials_[i] != k) continue;
+                piece.triangles.push_back(mesh.triangles[i]);
+                if (!mesh.normals.empty()) piece.normals.push_back(mesh.normals[i]);
+                if (!mesh.uvs.empty()) piece.uvs.push_back(mesh.uvs[i]);
+            }
+            if (piece.triangles.empty()) continue;
+            if (fileMaterials_[k].baseColourTexture && !piece.uvs.empty())
+                part.material.diffuseTexture = {"", fileMaterials_[k].baseColourTexture};
+            part.shape = std::move(piece);
+            parts.push_back(std::move(part));
+        }
+        return parts;
     }
 
     // ---- Textures ----
@@ -824,7 +860,7 @@ private:
         std::string name = "mesh file \"" + written + "\"";
         MeshFileData data;
         try {
-            data = whitted::readMeshFile(path);
+            data = whitted::readMeshFile(path, wantFileMaterials_ ? MeshFileMaterials::Read : MeshFileMaterials::Ignore);
         } catch (const MeshFileError& error) {
             diag_.fail(e, name + " " + error.what());
         }
@@ -842,12 +878,14 @@ private:
             }
             mesh.triangles.push_back(t);
             if (!data.uvs.empty()) mesh.uvs.push_back(data.uvs[i]);
+            if (!data.triangleMaterials.empty()) fileTriangleMaterials_.push_back(data.triangleMaterials[i]);
             if (!data.normals.empty()) {
                 const auto& n = data.normals[i];
                 mesh.normals.push_back({placement.normal(n[0]), placement.normal(n[1]), placement.normal(n[2])});
             }
         }
         if (mesh.triangles.empty()) diag_.fail(e, "every triangle in " + name + " is degenerate");
+        if (!data.triangleMaterials.empty()) fileMaterials_ = std::move(data.materials);
         if (skipped > 0)
             diag_.warn(e, name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
                               " skipped");
@@ -857,6 +895,11 @@ private:
     Diagnostics diag_;
     Scene& scene_;
     std::map<std::pair<std::filesystem::path, TextureEncoding>, std::shared_ptr<const TextureData>> textures_;
+    // The object being read: whether a model file's materials apply, and
+    // those read with each kept triangle's index into them.
+    bool wantFileMaterials_ = false;
+    std::vector<MeshFileMaterial> fileMaterials_;
+    std::vector<uint32_t> fileTriangleMaterials_;
 };
 
 // tinyxml2's ErrorStr() is "Error=NAME ErrorID=N (0xN) Line number=L: detail"

@@ -99,7 +99,9 @@ void writeObject(XmlOut& x, const Object& o) {
     }
     if (m.absorption != glm::dvec3(0)) x.colour("absorption", m.absorption);
     // The texture's path as the scene file wrote it (relative to its folder).
-    if (m.diffuseTexture) x.value("diffuse_texture", m.diffuseTexture.written);
+    // (A model file's own texture has no path to write: the mesh is written
+    // inline with its base colour and UVs.)
+    if (m.diffuseTexture && !m.diffuseTexture.written.empty()) x.value("diffuse_texture", m.diffuseTexture.written);
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
