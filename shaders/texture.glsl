@@ -65,6 +65,28 @@ vec3 textureColor(uint slot, vec2 uv, float lod) {
     return textureLod(textures[nonuniformEXT(slot)], vec2(uv.x, 1.0 - uv.y), lod).rgb;
 }
 
+// Normal mapping: the map's texel m = 2 rgb - 1 is a normal in tangent
+// space, OpenGL's convention (x along +u, y along +v: green up, z along the
+// surface normal), its x and y scaled by `strength`. The tangent frame is the
+// mapping's: T = dp/du made perpendicular to the shading normal ns
+// (Gram-Schmidt), B = ns x T turned to dp/dv's side, N = ns. For a mesh this
+// is MikkTSpace's per-triangle tangent (dp/du from the triangle's UVs,
+// orthogonalised against the interpolated normal, the bitangent's sign from
+// the UV winding); vertex tangents averaged over neighbouring triangles are
+// not used. ns faces the viewer, so a map reads the same from either side.
+vec3 normalMapped(uint slot, float strength, SurfaceUv s, vec3 ns, float lod) {
+    vec3 m = textureLod(textures[nonuniformEXT(slot)], vec2(s.uv.x, 1.0 - s.uv.y), lod).rgb * 2.0 - 1.0;
+    m.xy *= strength;
+    vec3 t = s.dpdu - dot(s.dpdu, ns) * ns;
+    if (dot(t, t) < 1e-20) return ns;
+    t = normalize(t);
+    vec3 b = cross(ns, t);
+    if (dot(b, s.dpdv) < 0.0) b = -b;
+    vec3 mapped = m.x * t + m.y * b + m.z * ns;
+    float length2 = dot(mapped, mapped);
+    return length2 > 1e-20 ? mapped * inversesqrt(length2) : ns;
+}
+
 // Signed curvature of primitive `prim` where its geometric normal is n,
 // positive where the surface is convex towards n (the outside of spheres
 // and cylinders): 1/r on spheres and cylinder sides, 0 on flat shapes, and

@@ -115,12 +115,21 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // hit.t through it, so all that comes back along it is attenuated.
         if (!frontFace) pending.weight *= exp(-m.absorption.rgb * hit.t);
         m.diffuse.rgb = pigment(m.diffuse.rgb, m.checker, m.checkerOrigin.xyz, p);
-        // The cone's footprint here filters the diffuse texture.
+        // The cone's footprint here filters the diffuse texture and the
+        // normal map; a mapped normal is kept facing the viewer as
+        // shadingNormal() keeps an interpolated one.
         float coneWidth = pending.cone.x + pending.cone.y * hit.t;
-        uint slot = m.textureSlots.x;
-        if (slot != kNoTexture) {
+        uvec2 slots = m.textureSlots.xy;
+        if (slots.x != kNoTexture || slots.y != kNoTexture) {
             SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, m.textureParams.x);
-            m.diffuse.rgb *= textureColor(slot, s.uv, rayConeLod(slot, s, coneWidth, abs(dot(ray.dir, n))));
+            float cosine = abs(dot(ray.dir, n));
+            if (slots.x != kNoTexture)
+                m.diffuse.rgb *= textureColor(slots.x, s.uv, rayConeLod(slots.x, s, coneWidth, cosine));
+            if (slots.y != kNoTexture) {
+                ns = normalMapped(slots.y, m.textureParams.y, s, ns, rayConeLod(slots.y, s, coneWidth, cosine));
+                float facing = dot(ns, -ray.dir);
+                if (facing < 1e-3) ns = normalize(ns + (1e-3 - facing) * -ray.dir);
+            }
         }
 
         LocalShading local = shadeLocal(m, pOutside, ns, n, -ray.dir);

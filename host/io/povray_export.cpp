@@ -235,6 +235,8 @@ std::vector<std::string> povrayInexactMappings(const Scene& scene) {
             notes.push_back(where(scene, object) +
                             ": an image texture on a shape other than a sphere or a mesh, from a model file's "
                             "embedded image, or with a diffuse_color other than white (exported untextured)");
+        if (m.normalMap)
+            notes.push_back(where(scene, object) + ": a normal map (not exported)");
         if (m.transmission > 0.0)
             notes.push_back(where(scene, object) +
                             ": transmission (POV-Ray dims the local terms by the pigment's opacity and filters "

@@ -46,14 +46,14 @@ gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const 
             .checker = glm::vec4(glm::vec3(m.checkerColor), float(m.checkerSize)),
             .checkerOrigin = glm::vec4(glm::vec3(m.checkerOrigin), 0.0f),
             .absorption = glm::vec4(glm::vec3(m.absorption), 0.0f),
-            .textureSlots = glm::uvec4(textureSlot(m.diffuseTexture, textures), gpu::kNoTexture, 0, 0),
-            .textureParams = glm::vec4(float(m.textureScale), 1.0f, 0.0f, 0.0f)};
+            .textureSlots = glm::uvec4(textureSlot(m.diffuseTexture, textures), textureSlot(m.normalMap, textures), 0, 0),
+            .textureParams = glm::vec4(float(m.textureScale), float(m.normalStrength), 0.0f, 0.0f)};
 }
 
 // Whether a mesh object needs per-triangle surface attributes.
 bool needsAttributes(const Object& object) {
     const Mesh* mesh = std::get_if<Mesh>(&object.shape);
-    return mesh && !mesh->uvs.empty() && object.material.diffuseTexture;
+    return mesh && !mesh->uvs.empty() && (object.material.diffuseTexture || object.material.normalMap);
 }
 
 // Camera frame: image right = cross(forward, up), right and up scaled to the

@@ -63,6 +63,10 @@ struct Material {
     // world length of one repeat of it.
     TextureRef diffuseTexture;
     double textureScale = 1.0;
+    // Tangent-space normal map (linear data, OpenGL convention: green is
+    // +v) and how far it tilts the normal: its x, y scaled by the strength.
+    TextureRef normalMap;
+    double normalStrength = 1.0;
 };
 
 struct Sphere {

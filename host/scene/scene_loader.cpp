@@ -309,6 +309,8 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"absorption"},
                                                {"diffuse_texture"},
                                                {"texture_scale"},
+                                               {"normal_map"},
+                                               {"normal_strength"},
                                                {"radius"},
                                                {"height"},
                                                {"axis"},
@@ -611,8 +613,9 @@ private:
 
     // ---- Textures ----
 
-    // <diffuse_texture> on every type but triangle (which has no texture
-    // coordinates; a mesh of one polygon with <uv> has), <texture_scale> on
+    // <diffuse_texture> and <normal_map> on every type but triangle (which
+    // has no texture coordinates; a mesh of one polygon with <uv> has),
+    // <normal_strength> with a <normal_map>, <texture_scale> on
     // planes only (README "Textures"). Left unread elsewhere, they are
     // reported as not applying to the type.
     void readTextures(const std::string& type, ElementReader& properties, Object& object) {
@@ -622,6 +625,16 @@ private:
                 diag_.fail(e, "<diffuse_texture> on a mesh needs texture coordinates: the mesh file has none, or "
                               "the <polygon>s have no <uv>");
             object.material.diffuseTexture = readTexture(e, TextureEncoding::Colour);
+        }
+        if (const XMLElement* e = properties.optional("normal_map")) {
+            if (const Mesh* mesh = std::get_if<Mesh>(&object.shape); mesh && mesh->uvs.empty())
+                diag_.fail(e, "<normal_map> on a mesh needs texture coordinates: the mesh file has none, or "
+                              "the <polygon>s have no <uv>");
+            object.material.normalMap = readTexture(e, TextureEncoding::Data);
+        }
+        if (const XMLElement* e = properties.optional("normal_strength")) {
+            if (!object.material.normalMap) diag_.fail(e, "<normal_strength> needs <normal_map> beside it in <properties>");
+            object.material.normalStrength = number(e, kNonNegative);
         }
         if (type == "plane")
             if (const XMLElement* e = properties.optional("texture_scale"))

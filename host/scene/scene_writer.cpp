@@ -102,6 +102,10 @@ void writeObject(XmlOut& x, const Object& o) {
     // (A model file's own texture has no path to write: the mesh is written
     // inline with its base colour and UVs.)
     if (m.diffuseTexture && !m.diffuseTexture.written.empty()) x.value("diffuse_texture", m.diffuseTexture.written);
+    if (m.normalMap && !m.normalMap.written.empty()) {
+        x.value("normal_map", m.normalMap.written);
+        x.value("normal_strength", m.normalStrength);
+    }
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
