@@ -14,11 +14,18 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <iterator>
+#include <regex>
 
 namespace whitted::test {
 namespace {
 
 namespace fs = std::filesystem;
+
+std::string readFileText(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
 
 fs::path textureDir() {
     fs::path dir = outputDir() / "textures";
@@ -383,6 +390,76 @@ TEST(ModelMaterials, GlbBaseColourTextureIsUsedWhenTheSceneSetsNoColour) {
         for (int x = 0; x < flat.width; ++x)
             if (pixel(flat, gpu::kAovCoefs1, x, y).w == 1.0f)
                 for (int c = 0; c < 3; ++c) ASSERT_NEAR(pixel(flat, gpu::kAovColor, x, y)[c], 1.0f, 1e-6f) << x << "," << y;
+}
+
+// ---- The window ------------------------------------------------------------
+
+// `whitted view` under its own virtual X server (as tests/view_test.cpp):
+// a texture file replaced while the window is open reloads the scene with
+// it, and the panel's texture-scale edit (the script's `edit`) renders and
+// saves as `render` renders the saved file.
+TEST(ViewTexture, TextureFileHotReloadsAndScaleEdits) {
+    fs::path dir = outputDir() / "view_texture";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    writeQuadrantTexture(dir / "tex.png");
+    writeSmoothTexture(dir / "other.png");
+    std::ofstream(dir / "scene.xml") << R"(<scene>
+  <camera><position x="0" y="0.5" z="3"/><window_position x="0" y="0.4" z="2"/><fov>50</fov></camera>
+  <ambient_light r="1" g="1" b="1"/>
+  <lights><light><position x="2" y="3" z="4"/><color r="0.6" g="0.6" b="0.6"/></light></lights>
+  <objects>
+    <object><position x="0" y="-0.5" z="0"/><properties><type>plane</type><normal x="0" y="1" z="0"/>
+      <diffuse_texture>tex.png</diffuse_texture><texture_scale>1</texture_scale>
+      <ambiente_coef>0.4</ambiente_coef><diffuse_coef>0.6</diffuse_coef></properties></object>
+    <object><position x="0" y="0.3" z="0"/><properties><type>sphere</type><radius>0.7</radius>
+      <diffuse_texture>tex.png</diffuse_texture><ambiente_coef>0.4</ambiente_coef><diffuse_coef>0.6</diffuse_coef>
+      </properties></object>
+  </objects>
+</scene>)";
+    std::ofstream(dir / "script.txt") << "spp 4\nscreenshot before.png\ncopy other.png tex.png\nreload\nspp 4\n"
+                                         "screenshot after.png\nedit 0 texture_scale 0.5\nspp 4\nscreenshot scaled.png\n"
+                                         "save_scene\nquit\n";
+    const std::string small = " --width 160 --height 120 --spp 4";
+    CommandRun view = runCommand("xvfb-run -a -s '-screen 0 1024x768x24' '" WHITTED_EXECUTABLE "' view scene.xml" +
+                                     small + " --script script.txt",
+                                 dir);
+    ASSERT_EQ(view.status, 0) << view.output;
+    EXPECT_NE(view.output.find("texture file changed"), std::string::npos) << view.output;
+    EXPECT_NE(view.output.find("reloaded scene.xml"), std::string::npos) << view.output;
+    Scene saved = loadScene(dir / "scene.xml");
+    EXPECT_EQ(saved.objects[0].material.textureScale, 0.5);
+
+    // tex.png now holds the other texture, scene.xml the scale 0.5.
+    auto render = [&](const std::string& scene, const std::string& out) {
+        CommandRun r = runCommand("'" WHITTED_EXECUTABLE "' render -q --aa uniform " + scene + small +
+                                      " --aov none -o " + out,
+                                  dir);
+        ASSERT_EQ(r.status, 0) << r.output;
+    };
+    render("scene.xml", "saved.png");
+    std::string scale1 = readFileText(dir / "scene.xml");
+    auto read = [&](const std::string& name) {
+        std::vector<float> pixels;
+        int w = 0, h = 0, c = 0;
+        readImageInto(dir / name, w, h, c, pixels);
+        return pixels;
+    };
+    auto maxLevels = [](const std::vector<float>& a, const std::vector<float>& b) {
+        if (a.size() != b.size()) return 255.0;
+        double worst = 0;
+        for (size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::abs(double(a[i]) - double(b[i])) * 255.0);
+        return worst;
+    };
+    std::vector<float> before = read("before.png"), after = read("after.png"), scaled = read("scaled.png");
+    EXPECT_LE(maxLevels(scaled, read("saved.png")), 1.0);
+    EXPECT_GT(maxLevels(after, before), 50.0) << "the new texture file did not show";
+    EXPECT_GT(maxLevels(scaled, after), 50.0) << "the scale edit changed nothing";
+    // The reloaded image is the scale-1 scene with the new texture.
+    std::ofstream(dir / "scale1.xml") << std::regex_replace(scale1, std::regex("<texture_scale>0.5</texture_scale>"),
+                                                            "<texture_scale>1</texture_scale>");
+    render("scale1.xml", "reloaded.png");
+    EXPECT_LE(maxLevels(after, read("reloaded.png")), 1.0);
 }
 
 // ---- Bad input ------------------------------------------------------------
