@@ -98,15 +98,7 @@ bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shad
             blocked = true;
         } else {
             // The pigment at the crossing, as POV-Ray's filter takes it.
-            vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz,
-                              ray.origin + t * ray.dir);
-            // A textured surface filters by its texture too, at mip level 0
-            // (a shadow ray carries no cone).
-            uint slot = materials[k].textureSlots.x;
-            if (slot != kNoTexture) {
-                SurfaceUv s = surfaceUv(primitives[i], i, n, ray.origin + t * ray.dir, materials[k].textureParams.x);
-                cd *= textureColor(slot, s.uv, 0.0);
-            }
+            vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
             transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
             opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
         }

@@ -20,6 +20,7 @@
 #ifndef WHITTED_TEXTURE_GLSL
 #define WHITTED_TEXTURE_GLSL
 #extension GL_EXT_nonuniform_qualifier : require
+#include "material.glsl"
 #include "scene.glsl"
 #include "shapes/primitive.glsl"
 
@@ -65,6 +66,17 @@ vec3 textureColor(uint slot, vec2 uv, float lod) {
     return textureLod(textures[nonuniformEXT(slot)], vec2(uv.x, 1.0 - uv.y), lod).rgb;
 }
 
+// The colour Cd a shadow ray's crossing of primitive i (material k) at p,
+// geometric normal n, filters by (POV-Ray's filter): the pigment times the
+// diffuse texture, at mip level 0 (a shadow ray carries no cone).
+vec3 crossingColour(uint i, uint k, vec3 p, vec3 n) {
+    vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz, p);
+    uint slot = materials[k].textureSlots.x;
+    if (slot != kNoTexture)
+        cd *= textureColor(slot, surfaceUv(primitives[i], i, n, p, materials[k].textureParams.x).uv, 0.0);
+    return cd;
+}
+
 // Normal mapping: the map's texel m = 2 rgb - 1 is a normal in tangent
 // space, OpenGL's convention (x along +u, y along +v: green up, z along the
 // surface normal), its x and y scaled by `strength`. The tangent frame is the
@@ -100,7 +112,8 @@ float surfaceCurvature(Primitive prim, vec3 n) {
         case kShapeTriangle: {
             if (prim.info.z != kTriangleSmooth) return 0.0;
             vec3 p[3] = vec3[3](prim.a.xyz, prim.b.xyz, prim.c.xyz);
-            vec3 v[3] = vec3[3](decodeOctahedral(floatBitsToUint(prim.a.w)), decodeOctahedral(floatBitsToUint(prim.b.w)),
+            vec3 v[3] = vec3[3](decodeOctahedral(floatBitsToUint(prim.a.w)),
+                                decodeOctahedral(floatBitsToUint(prim.b.w)),
                                 decodeOctahedral(floatBitsToUint(prim.c.w)));
             vec3 ng = cross(p[1] - p[0], p[2] - p[0]);
             float k = 0.0;

@@ -2,20 +2,19 @@
 // each mapping puts the image, the ray-cone filter against supersampling,
 // and bad input. The POV-Ray cross-checks of the spherical map and of mesh
 // UVs are in tests/povray_test.cpp (PovrayCrossCheck.Textured*).
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <glm/gtc/packing.hpp>
+#include <iterator>
+#include <regex>
+
 #include "io/image_io.h"
 #include "io/mesh_file.h"
 #include "io/texture_file.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
 #include "test_support.h"
-
-#include <glm/gtc/packing.hpp>
-
-#include <cmath>
-#include <cstdio>
-#include <fstream>
-#include <iterator>
-#include <regex>
 
 namespace whitted::test {
 namespace {
@@ -38,7 +37,9 @@ glm::vec4 texel(const TextureLevel& level, int x, int y) {
     return {glm::unpackHalf1x16(t[0]), glm::unpackHalf1x16(t[1]), glm::unpackHalf1x16(t[2]), glm::unpackHalf1x16(t[3])};
 }
 
-float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+float srgbToLinear(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
 float linearToSrgb(float v) {
     v = std::clamp(v, 0.0f, 1.0f);
     return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
@@ -113,6 +114,55 @@ TEST(TextureRender, PlanarMappingPutsTheImageUpright) {
                 << "pixel " << e.x << "," << e.y << " channel " << c;
 }
 
+// A texture multiplies Cd everywhere Cd is used: a white object with a
+// constant texture of colour c renders exactly as the same object with
+// diffuse_color c: ambient and diffuse terms, and the coloured shadow of a
+// transparent textured box (shadow rays filter by the texture too), on the
+// BVH path and, where the device has them, on the ray-query path. (c is
+// exact in the half floats textures are stored in.)
+TEST(TextureRender, ConstantTextureEqualsDiffuseColour) {
+    fs::path dir = textureDir();
+    const glm::vec3 c(0.75f, 0.5f, 0.25f);
+    std::vector<float> texels;
+    for (int i = 0; i < 16; ++i) texels.insert(texels.end(), {c.r, c.g, c.b});
+    writeImage(dir / "constant.exr", 4, 4, 3, texels, PixelEncoding::Float);
+    const std::string xml = R"(<scene>
+  <camera><position x="0" y="2" z="4"/><window_position x="0" y="1.6" z="3"/><fov>45</fov>
+    <width>64</width><height>48</height></camera>
+  <ambient_light r="0.5" g="0.5" b="0.5"/>
+  <lights><light><position x="0.5" y="6" z="0.5"/><color r="1" g="1" b="1"/></light></lights>
+  <objects>
+    <object><position x="0" y="0" z="0"/><diffuse_color r="0.9" g="0.9" b="0.9"/>
+      <properties><type>plane</type><normal x="0" y="1" z="0"/><diffuse_coef>0.8</diffuse_coef></properties></object>
+    <object><position x="-0.5" y="1.5" z="-0.5"/>COLOUR
+      <properties><type>box</type><size x="1" y="0.2" z="1"/>TEXTURE<transmission_coef>0.7</transmission_coef>
+        <refraction_coef>1</refraction_coef><diffuse_coef>0.6</diffuse_coef><ambiente_coef>0.3</ambiente_coef>
+      </properties></object>
+    <object><position x="1.2" y="0.5" z="0"/>COLOUR
+      <properties><type>sphere</type><radius>0.5</radius>TEXTURE<diffuse_coef>0.7</diffuse_coef>
+        <ambiente_coef>0.3</ambiente_coef></properties></object>
+  </objects>
+</scene>)";
+    auto variant = [&](const std::string& colour, const std::string& texture) {
+        std::string text = xml;
+        for (size_t at; (at = text.find("COLOUR")) != std::string::npos;) text.replace(at, 6, colour);
+        for (size_t at; (at = text.find("TEXTURE")) != std::string::npos;) text.replace(at, 7, texture);
+        return loadSceneFromString(text, dir / "constant.xml");
+    };
+    Scene coloured = variant(R"(<diffuse_color r="0.75" g="0.5" b="0.25"/>)", "");
+    Scene textured = variant("", "<diffuse_texture>constant.exr</diffuse_texture>");
+    std::vector<TracePath> paths = {TracePath::Bvh};
+    if (testContext().deviceInfo().rayQuery) paths.push_back(TracePath::RayQuery);
+    for (TracePath path : paths) {
+        RenderSettings settings{.samplesPerPixel = 1, .maxDepth = 3, .auxiliary = false, .trace = path};
+        RenderResult a = renderScene(coloured, settings), b = renderScene(textured, settings);
+        double worst = 0;
+        for (size_t i = 0; i < a.layers[gpu::kAovColor].size(); ++i)
+            worst = std::max(worst, double(std::abs(a.layers[gpu::kAovColor][i] - b.layers[gpu::kAovColor][i])));
+        EXPECT_LT(worst, 1e-6) << (path == TracePath::Bvh ? "bvh" : "ray queries");
+    }
+}
+
 // ---- Filtering ----------------------------------------------------------
 
 // A floor and a ceiling with a one-texel checker (the hardest case: it
@@ -181,16 +231,19 @@ TEST(TextureRender, RayConesFilterLikeSupersampling) {
     RenderResult got = renderScene(scene, cones);
     RenderResult aliased = renderScene(scene, unfiltered);
     Psnr filtered = psnr(got, want), plain = psnr(aliased, want);
-    std::printf("[ texture  ] 1 spp against 64 spp at level 0: ray cones %.2f dB floor, %.2f dB in the mirror; "
-                "level 0 %.2f dB floor, %.2f dB in the mirror\n",
-                filtered.floor, filtered.mirror, plain.floor, plain.mirror);
+    std::printf(
+        "[ texture  ] 1 spp against 64 spp at level 0: ray cones %.2f dB floor, %.2f dB in the mirror; "
+        "level 0 %.2f dB floor, %.2f dB in the mirror\n",
+        filtered.floor, filtered.mirror, plain.floor, plain.mirror);
     if (std::getenv("WHITTED_TEXTURE_KEEP")) {
-        for (auto [name, r] : {std::pair{"reference", &want}, std::pair{"cones", &got}, std::pair{"level0", &aliased}}) {
+        for (auto [name, r] :
+             {std::pair{"reference", &want}, std::pair{"cones", &got}, std::pair{"level0", &aliased}}) {
             std::vector<float> rgb;
             for (int y = 0; y < r->height; ++y)
                 for (int x = 0; x < r->width; ++x)
                     for (int c = 0; c < 3; ++c) rgb.push_back(pixel(*r, gpu::kAovColor, x, y)[c]);
-            writeImage(dir / (std::string("floor.") + name + ".png"), r->width, r->height, 3, rgb, PixelEncoding::Srgb8);
+            writeImage(dir / (std::string("floor.") + name + ".png"), r->width, r->height, 3, rgb,
+                       PixelEncoding::Srgb8);
         }
     }
     // Measured (lavapipe, Mesa 25.0.7): ray cones 33.3 dB on the floor and
@@ -300,8 +353,9 @@ TEST(NormalMap, ConstantTiltEqualsAnalyticPhong) {
         glm::dvec3 map;  // tangent space
         double strength;
     };
-    for (const Case& c : {Case{"x", {std::sin(tilt), 0, std::cos(tilt)}, 1.0}, Case{"y", {0, std::sin(tilt), std::cos(tilt)}, 1.0},
-                          Case{"x_half", {std::sin(tilt), 0, std::cos(tilt)}, 0.5}}) {
+    for (const Case& c :
+         {Case{"x", {std::sin(tilt), 0, std::cos(tilt)}, 1.0}, Case{"y", {0, std::sin(tilt), std::cos(tilt)}, 1.0},
+          Case{"x_half", {std::sin(tilt), 0, std::cos(tilt)}, 0.5}}) {
         SCOPED_TRACE(c.name);
         std::string file = std::string("tilt_") + c.name + ".exr";
         writeConstantNormalMap(dir / file, c.map);
@@ -311,7 +365,8 @@ TEST(NormalMap, ConstantTiltEqualsAnalyticPhong) {
   <lights><light><position x="2" y="1.5" z="4"/><color r="1" g="1" b="1"/></light></lights>
   <objects>
     <object><position x="0" y="0" z="0"/><properties><type>plane</type><normal x="0" y="0" z="1"/>
-      <normal_map>)" + file + R"(</normal_map><normal_strength>)" + std::to_string(c.strength) + R"(</normal_strength>
+      <normal_map>)" + file +
+                          R"(</normal_map><normal_strength>)" + std::to_string(c.strength) + R"(</normal_strength>
       <ambiente_coef>0.1</ambiente_coef><diffuse_coef>0.6</diffuse_coef><specular_coef>0.3</specular_coef>
       <shininess>5</shininess></properties></object>
   </objects>
@@ -322,7 +377,8 @@ TEST(NormalMap, ConstantTiltEqualsAnalyticPhong) {
         glm::dvec3 n = glm::normalize(glm::dvec3(c.strength * c.map.x, c.strength * c.map.y, c.map.z));
         glm::dvec3 l = glm::normalize(glm::dvec3(2, 1.5, 4)), v(0, 0, 1);
         glm::dvec3 reflected = 2.0 * glm::dot(n, l) * n - l;
-        double expected = 0.1 + 0.6 * std::max(glm::dot(n, l), 0.0) + 0.3 * std::pow(std::max(glm::dot(reflected, v), 0.0), 5.0);
+        double expected =
+            0.1 + 0.6 * std::max(glm::dot(n, l), 0.0) + 0.3 * std::pow(std::max(glm::dot(reflected, v), 0.0), 5.0);
         glm::vec4 got = pixel(r, gpu::kAovColor, 16, 16);
         for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], expected, 2e-3);
         glm::vec4 normal = pixel(r, gpu::kAovNormal, 16, 16);
@@ -347,14 +403,16 @@ std::string boxXml(const std::string& colour) {
   <ambient_light r="1" g="1" b="1"/>
   <lights/>
   <objects>
-    <object>)" + colour + R"(<properties><type>mesh</type><file>)" + kBoxTextured.string() + R"(</file>
+    <object>)" +
+           colour + R"(<properties><type>mesh</type><file>)" + kBoxTextured.string() + R"(</file>
       <ambiente_coef>1</ambiente_coef><diffuse_coef>0</diffuse_coef></properties></object>
   </objects>
 </scene>)";
 }
 
 TEST(ModelMaterials, GlbBaseColourTextureIsUsedWhenTheSceneSetsNoColour) {
-    ASSERT_TRUE(fs::exists(kBoxTextured)) << kBoxTextured << " is missing: install assimp-testmodels (tools/install_deps.sh)";
+    ASSERT_TRUE(fs::exists(kBoxTextured))
+        << kBoxTextured << " is missing: install assimp-testmodels (tools/install_deps.sh)";
     MeshFileData data = readMeshFile(kBoxTextured, MeshFileMaterials::Read);
     ASSERT_EQ(data.triangleMaterials.size(), data.triangles.size());
     ASSERT_LT(data.triangleMaterials[0], data.materials.size());
@@ -389,7 +447,8 @@ TEST(ModelMaterials, GlbBaseColourTextureIsUsedWhenTheSceneSetsNoColour) {
     for (int y = 0; y < flat.height; ++y)
         for (int x = 0; x < flat.width; ++x)
             if (pixel(flat, gpu::kAovCoefs1, x, y).w == 1.0f)
-                for (int c = 0; c < 3; ++c) ASSERT_NEAR(pixel(flat, gpu::kAovColor, x, y)[c], 1.0f, 1e-6f) << x << "," << y;
+                for (int c = 0; c < 3; ++c)
+                    ASSERT_NEAR(pixel(flat, gpu::kAovColor, x, y)[c], 1.0f, 1e-6f) << x << "," << y;
 }
 
 // ---- The window ------------------------------------------------------------
@@ -417,9 +476,10 @@ TEST(ViewTexture, TextureFileHotReloadsAndScaleEdits) {
       </properties></object>
   </objects>
 </scene>)";
-    std::ofstream(dir / "script.txt") << "spp 4\nscreenshot before.png\ncopy other.png tex.png\nreload\nspp 4\n"
-                                         "screenshot after.png\nedit 0 texture_scale 0.5\nspp 4\nscreenshot scaled.png\n"
-                                         "save_scene\nquit\n";
+    std::ofstream(dir / "script.txt")
+        << "spp 4\nscreenshot before.png\ncopy other.png tex.png\nreload\nspp 4\n"
+           "screenshot after.png\nedit 0 texture_scale 0.5\nspp 4\nscreenshot scaled.png\n"
+           "save_scene\nquit\n";
     const std::string small = " --width 160 --height 120 --spp 4";
     CommandRun view = runCommand("xvfb-run -a -s '-screen 0 1024x768x24' '" WHITTED_EXECUTABLE "' view scene.xml" +
                                      small + " --script script.txt",
@@ -432,9 +492,8 @@ TEST(ViewTexture, TextureFileHotReloadsAndScaleEdits) {
 
     // tex.png now holds the other texture, scene.xml the scale 0.5.
     auto render = [&](const std::string& scene, const std::string& out) {
-        CommandRun r = runCommand("'" WHITTED_EXECUTABLE "' render -q --aa uniform " + scene + small +
-                                      " --aov none -o " + out,
-                                  dir);
+        CommandRun r = runCommand(
+            "'" WHITTED_EXECUTABLE "' render -q --aa uniform " + scene + small + " --aov none -o " + out, dir);
         ASSERT_EQ(r.status, 0) << r.output;
     };
     render("scene.xml", "saved.png");

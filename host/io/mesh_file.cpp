@@ -142,7 +142,8 @@ MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials w
                 }
             }
             data.triangles.push_back(triangle);
-            if (!data.materials.empty()) data.triangleMaterials.push_back(std::min(mesh->mMaterialIndex, scene->mNumMaterials - 1));
+            if (!data.materials.empty())
+                data.triangleMaterials.push_back(std::min(mesh->mMaterialIndex, scene->mNumMaterials - 1));
             if (anyUvs) {
                 std::array<glm::dvec2, 3> uv{};
                 if (mesh->HasTextureCoords(0))

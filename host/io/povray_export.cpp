@@ -42,7 +42,8 @@ std::string where(const Scene& scene, const Object& object) {
 std::string imageMap(const Material& m, const Shape& shape) {
     std::string path = m.diffuseTexture.data->name;
     std::string extension = path.substr(path.find_last_of('.') + 1);
-    std::transform(extension.begin(), extension.end(), extension.begin(), [](unsigned char c) { return std::tolower(c); });
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
     std::string type = extension == "jpg" || extension == "jpeg" ? "jpeg"
                        : extension == "tif" || extension == "tiff" ? "tiff"
                                                                    : extension;

@@ -2,11 +2,11 @@
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
-#include <glm/gtc/packing.hpp>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <glm/gtc/packing.hpp>
 #include <memory>
 #include <system_error>
 
@@ -64,7 +64,8 @@ TextureData readOpened(OIIO::ImageInput& in, TextureEncoding encoding, const std
     std::vector<float> stored(size_t(spec.width) * spec.height * channels);
     if (!in.read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, stored.data())) {
         std::string reason = in.geterror();
-        throw TextureFileError("could not be read: " + (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
+        throw TextureFileError("could not be read: " +
+                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
     }
     bool floatFile = spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF ||
                      spec.format.basetype == OIIO::TypeDesc::DOUBLE;
@@ -106,7 +107,8 @@ TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding e
     auto in = OIIO::ImageInput::open(path.string());
     if (!in) {
         std::string reason = OIIO::geterror();
-        throw TextureFileError("could not be read: " + (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
+        throw TextureFileError("could not be read: " +
+                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
     }
     return readOpened(*in, encoding, path.string());
 }
@@ -123,11 +125,13 @@ TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::s
     OIIO::ImageSpec spec;
     if (in && (!in->set_ioproxy(&reader) || !in->open("embedded." + format, spec))) {
         std::string reason = in->geterror();
-        throw TextureFileError("could not be read: " + (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
+        throw TextureFileError("could not be read: " +
+                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
     }
     if (!in) {
         std::string reason = OIIO::geterror();
-        throw TextureFileError("could not be read: " + (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
+        throw TextureFileError("could not be read: " +
+                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
     }
     return readOpened(*in, encoding, name);
 }

@@ -4,14 +4,14 @@
 // (host/render/texture_set.cpp).
 #pragma once
 
-#include "scene/texture.h"
-
 #include <cstdint>
 #include <filesystem>
 #include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "scene/texture.h"
 
 namespace whitted {
 
@@ -33,8 +33,8 @@ enum class TextureEncoding { Colour, Data };
 TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding encoding);
 // The same from an image file held in memory (a model file's embedded
 // texture); `hint` is its format's extension ("png", "jpg") or empty.
-TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::string& hint,
-                              TextureEncoding encoding, const std::string& name);
+TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::string& hint, TextureEncoding encoding,
+                              const std::string& name);
 // A texture from linear RGBA float texels (rows from the top), mip chain built.
 TextureData textureFromPixels(int width, int height, std::span<const float> rgba, const std::string& name);
 

@@ -46,7 +46,8 @@ gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const 
             .checker = glm::vec4(glm::vec3(m.checkerColor), float(m.checkerSize)),
             .checkerOrigin = glm::vec4(glm::vec3(m.checkerOrigin), 0.0f),
             .absorption = glm::vec4(glm::vec3(m.absorption), 0.0f),
-            .textureSlots = glm::uvec4(textureSlot(m.diffuseTexture, textures), textureSlot(m.normalMap, textures), 0, 0),
+            .textureSlots =
+                glm::uvec4(textureSlot(m.diffuseTexture, textures), textureSlot(m.normalMap, textures), 0, 0),
             .textureParams = glm::vec4(float(m.textureScale), float(m.normalStrength), 0.0f, 0.0f)};
 }
 

@@ -313,8 +313,11 @@ void Renderer::uploadScene() {
         writes.push_back({.dstSet = *descriptorSet_, .dstBinding = kBindings[i].binding, .descriptorCount = 1,
                           .descriptorType = kBindings[i].type, .pBufferInfo = &infos[i]});
     std::vector<vk::DescriptorImageInfo> textureInfos = textures_.descriptorInfos();
-    writes.push_back({.dstSet = *descriptorSet_, .dstBinding = gpu::kBindingTextures, .descriptorCount = gpu::kMaxTextures,
-                      .descriptorType = vk::DescriptorType::eCombinedImageSampler, .pImageInfo = textureInfos.data()});
+    writes.push_back({.dstSet = *descriptorSet_,
+                      .dstBinding = gpu::kBindingTextures,
+                      .descriptorCount = gpu::kMaxTextures,
+                      .descriptorType = vk::DescriptorType::eCombinedImageSampler,
+                      .pImageInfo = textureInfos.data()});
     vk::AccelerationStructureKHR tlas = *accelerationStructures_.top.handle;
     vk::WriteDescriptorSetAccelerationStructureKHR tlasInfo{.accelerationStructureCount = 1,
                                                             .pAccelerationStructures = &tlas};

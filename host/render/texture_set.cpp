@@ -1,10 +1,10 @@
 #include "render/texture_set.h"
 
-#include "device_types.h"
-#include "vk/buffer.h"
-
 #include <cstring>
 #include <glm/gtc/packing.hpp>
+
+#include "device_types.h"
+#include "vk/buffer.h"
 
 namespace whitted {
 
@@ -30,18 +30,21 @@ TextureSet::Image TextureSet::upload(VulkanContext& ctx, const TextureData& text
     Image img;
     uint32_t levels = uint32_t(texture.levels.size());
     img.image = vk::raii::Image(
-        ctx.device, vk::ImageCreateInfo{.imageType = vk::ImageType::e2D,
-                                        .format = kFormat,
-                                        .extent = {uint32_t(texture.levels[0].width), uint32_t(texture.levels[0].height), 1},
-                                        .mipLevels = levels,
-                                        .arrayLayers = 1,
-                                        .samples = vk::SampleCountFlagBits::e1,
-                                        .tiling = vk::ImageTiling::eOptimal,
-                                        .usage = vk::ImageUsageFlagBits::eSampled | vk::ImageUsageFlagBits::eTransferDst,
-                                        .initialLayout = vk::ImageLayout::eUndefined});
+        ctx.device,
+        vk::ImageCreateInfo{.imageType = vk::ImageType::e2D,
+                            .format = kFormat,
+                            .extent = {uint32_t(texture.levels[0].width), uint32_t(texture.levels[0].height), 1},
+                            .mipLevels = levels,
+                            .arrayLayers = 1,
+                            .samples = vk::SampleCountFlagBits::e1,
+                            .tiling = vk::ImageTiling::eOptimal,
+                            .usage = vk::ImageUsageFlagBits::eSampled | vk::ImageUsageFlagBits::eTransferDst,
+                            .initialLayout = vk::ImageLayout::eUndefined});
     vk::MemoryRequirements req = img.image.getMemoryRequirements();
-    uint32_t type = findMemoryType(ctx.physicalDevice, req.memoryTypeBits, vk::MemoryPropertyFlagBits::eDeviceLocal, {});
-    img.memory = vk::raii::DeviceMemory(ctx.device, vk::MemoryAllocateInfo{.allocationSize = req.size, .memoryTypeIndex = type});
+    uint32_t type =
+        findMemoryType(ctx.physicalDevice, req.memoryTypeBits, vk::MemoryPropertyFlagBits::eDeviceLocal, {});
+    img.memory =
+        vk::raii::DeviceMemory(ctx.device, vk::MemoryAllocateInfo{.allocationSize = req.size, .memoryTypeIndex = type});
     img.image.bindMemory(*img.memory, 0);
     bytes_ += req.size;
 
@@ -54,7 +57,8 @@ TextureSet::Image TextureSet::upload(VulkanContext& ctx, const TextureData& text
     vk::DeviceSize offset = 0;
     for (uint32_t i = 0; i < levels; ++i) {
         const TextureLevel& level = texture.levels[i];
-        std::memcpy(static_cast<char*>(staging.mapped) + offset, level.rgba.data(), level.rgba.size() * sizeof(uint16_t));
+        std::memcpy(static_cast<char*>(staging.mapped) + offset, level.rgba.data(),
+                    level.rgba.size() * sizeof(uint16_t));
         copies.push_back({.bufferOffset = offset,
                           .imageSubresource = {vk::ImageAspectFlagBits::eColor, i, 0, 1},
                           .imageExtent = {uint32_t(level.width), uint32_t(level.height), 1}});
@@ -84,10 +88,10 @@ TextureSet::Image TextureSet::upload(VulkanContext& ctx, const TextureData& text
         cmd.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eComputeShader, {},
                             nullptr, nullptr, toShader);
     });
-    img.view = vk::raii::ImageView(ctx.device, vk::ImageViewCreateInfo{.image = *img.image,
-                                                                       .viewType = vk::ImageViewType::e2D,
-                                                                       .format = kFormat,
-                                                                       .subresourceRange = all});
+    img.view = vk::raii::ImageView(
+        ctx.device,
+        vk::ImageViewCreateInfo{
+            .image = *img.image, .viewType = vk::ImageViewType::e2D, .format = kFormat, .subresourceRange = all});
     return img;
 }
 

@@ -5,12 +5,12 @@
 // (unused ones name a 1x1 dummy image, so the whole array is always valid).
 #pragma once
 
-#include "scene/texture.h"
-#include "vk/context.h"
-
 #include <memory>
 #include <span>
 #include <vector>
+
+#include "scene/texture.h"
+#include "vk/context.h"
 
 namespace whitted {
 

@@ -633,7 +633,8 @@ private:
             object.material.normalMap = readTexture(e, TextureEncoding::Data);
         }
         if (const XMLElement* e = properties.optional("normal_strength")) {
-            if (!object.material.normalMap) diag_.fail(e, "<normal_strength> needs <normal_map> beside it in <properties>");
+            if (!object.material.normalMap)
+                diag_.fail(e, "<normal_strength> needs <normal_map> beside it in <properties>");
             object.material.normalStrength = number(e, kNonNegative);
         }
         if (type == "plane")
@@ -839,7 +840,8 @@ private:
             // the vertices' order, on every polygon or on none.
             const std::vector<const XMLElement*>& uvs = vertices.all("uv");
             if (!uvs.empty() && uvs.size() != 3)
-                diag_.fail(polygon, "<polygon> has " + std::to_string(uvs.size()) + " <uv>, expected 3 (one per <vertex>)");
+                diag_.fail(polygon,
+                           "<polygon> has " + std::to_string(uvs.size()) + " <uv>, expected 3 (one per <vertex>)");
             if (withUv && *withUv == uvs.empty())
                 diag_.fail(polygon, uvs.empty() ? "<polygon> has no <uv>, but the first <polygon> has"
                                                 : "<polygon> has <uv>, but the first <polygon> has none");
@@ -873,7 +875,8 @@ private:
         std::string name = "mesh file \"" + written + "\"";
         MeshFileData data;
         try {
-            data = whitted::readMeshFile(path, wantFileMaterials_ ? MeshFileMaterials::Read : MeshFileMaterials::Ignore);
+            data = whitted::readMeshFile(path,
+                                         wantFileMaterials_ ? MeshFileMaterials::Read : MeshFileMaterials::Ignore);
         } catch (const MeshFileError& error) {
             diag_.fail(e, name + " " + error.what());
         }
