@@ -37,6 +37,10 @@ WHITTED_CONST uint kBindingTlas = 10;
 // Image textures (diffuse and normal maps): an array of combined image
 // samplers indexed by Material texture slots (shaders/texture.glsl).
 WHITTED_CONST uint kBindingTextures = 11;
+// Size of that array: unused entries hold a 1x1 dummy image.
+WHITTED_CONST uint kMaxTextures = 32;
+// Material.textureSlots entry of a material without that texture.
+WHITTED_CONST uint kNoTexture = 0xffffffffu;
 
 // Shape tags in Primitive.info.x.
 WHITTED_CONST uint kShapeSphere = 0;
@@ -115,6 +119,7 @@ WHITTED_CONST uint kSpecListShapeMask = 2; // as kSpecShapeMask, for the primiti
 WHITTED_CONST uint kOptionWriteAovs = 1u;
 // Bits 8..15: the number B of split reflection/transmission layers (0: none).
 WHITTED_CONST uint kOptionAovBouncesShift = 8u;
+WHITTED_CONST uint kOptionTextureLodZero = 2u;  // sample textures at mip level 0 (tests of the ray-cone LOD)
 
 // One geometric primitive. Meaning of a, b, c by shape:
 //   sphere:   a = (centre, radius)
@@ -143,6 +148,17 @@ struct Material {
     vec4 checker;        // checker colour rgb, cell size (0: no checker)
     vec4 checkerOrigin;  // xyz: the object's position, where a cell starts
     vec4 absorption;     // sigma rgb per unit length inside the object, 0
+    uvec4 textureSlots;  // diffuse texture, normal map (index into the kBindingTextures array, or kNoTexture), 0, 0
+    vec4 textureParams;  // texture scale (planes: world units per repeat), normal strength, 0, 0
+};
+
+// Per-primitive surface attributes (FrameParams.addresses2.zw), in the
+// primitives' order; present when some mesh triangle needs them (a textured
+// mesh). Triangles: the (u, v) of its three vertices. Other shapes compute
+// their (u, v) from the hit point (shaders/shapes/*.glsl) and ignore theirs.
+struct SurfaceAttributes {
+    vec4 uv01;  // u0, v0, u1, v1
+    vec4 uv2;   // u2, v2, 0, 0
 };
 
 struct Light {

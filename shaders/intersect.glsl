@@ -12,6 +12,7 @@
 #include "material.glsl"
 #include "shapes/primitive.glsl"
 #include "shapes/csg.glsl"
+#include "texture.glsl"
 
 // Entry distance of the ray into a node's box within [0, tMax], or -1.
 float intersectNodeBounds(BvhNode node, vec3 origin, vec3 invDir, float tMax) {
@@ -96,8 +97,7 @@ void testCsg(uint i, Ray ray, float tMax, const bool shadow, inout Hit hit, inou
             blocked = true;
             return;
         }
-        vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz,
-                          ray.origin + t * ray.dir);
+        vec3 cd = crossingColour(leaf, k, ray.origin + t * ray.dir, n);
         transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
         opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
         tFrom = t;
@@ -137,8 +137,7 @@ bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shad
             blocked = true;
         } else {
             // The pigment at the crossing, as POV-Ray's filter takes it.
-            vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz,
-                              ray.origin + t * ray.dir);
+            vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
             transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
             opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
         }

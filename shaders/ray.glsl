@@ -16,6 +16,23 @@ struct Hit {
     uint primitive;
 };
 
+// Texture coordinates at a surface point (README "Textures") and their
+// derivatives: the world-space change of the point per unit of u and of v.
+// |dpdu x dpdv| is the world area one unit square of texture covers, which
+// the ray-cone LOD needs (shaders/texture.glsl).
+struct SurfaceUv {
+    vec2 uv;
+    vec3 dpdu;
+    vec3 dpdv;
+};
+
+// A unit vector perpendicular to unit n, the same for the same n: the
+// u direction of planar mappings, normalize(n x z) (x when n is along z).
+vec3 planarTangent(vec3 n) {
+    vec3 t = cross(n, vec3(0.0, 0.0, 1.0));
+    return dot(t, t) > 1e-12 ? normalize(t) : vec3(1.0, 0.0, 0.0);
+}
+
 // Moves a surface point off the surface along n so that a ray leaving from it
 // does not re-hit the surface it starts on, whatever the point's magnitude:
 // integer ulp offset far from the origin, float offset near it.

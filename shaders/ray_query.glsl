@@ -30,8 +30,7 @@
 bool filterCrossing(uint i, Ray ray, float t, vec3 n, inout vec3 transmittance, inout vec3 opticalDepth) {
     uint k = primitives[i].info.y;
     float kt = materials[k].coefs1.y;
-    vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz,
-                      ray.origin + t * ray.dir);
+    vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
     transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
     opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
     return kt > 0.0;

@@ -12,11 +12,14 @@
 
 layout(local_size_x = kWorkgroupSize, local_size_y = kWorkgroupSize, local_size_z = 1) in;
 
+// cone: the ray cone's width at the ray's origin and its spread angle
+// (texture LOD, shaders/texture.glsl).
 struct PendingRay {
     Ray ray;
     vec3 weight;
     uint depth;
     uint component;  // kAovReflection or kAovTransmission for secondary rays
+    vec2 cone;
 };
 
 // Per-sample results for the output layers.
@@ -90,6 +93,9 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
     vec2 size = vec2(params.sizes.xy);
     vec3 sampleColor = vec3(0.0);  // the current sample's colour so far
     uint sampleObject = kNoObject;
+    // A camera ray's cone: width 0 at the eye, spread one pixel's angle
+    // (Ray Tracing Gems ch. 20, eq. 20.30: atan(2 tan(fov/2) / height)).
+    float pixelSpread = atan(2.0 * length(params.up.xyz) / size.y);
 
     while (top > 0 || nextSample < end) {
         if (top == 0) {
@@ -99,7 +105,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             vec2 offset = pixelSampleOffset(nextSample, n, pixelSeed);
             Ray ray = generateCameraRay(vec2(pixel) + offset, size, params.eye.xyz, params.forward.xyz,
                                         params.right.xyz, params.up.xyz);
-            stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u);
+            stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u, vec2(0.0, pixelSpread));
             rayCount.x += 1u;
             ++nextSample;
         }
@@ -126,6 +132,22 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // hit.t through it, so all that comes back along it is attenuated.
         if (!frontFace) pending.weight *= exp(-m.absorption.rgb * hit.t);
         m.diffuse.rgb = pigment(m.diffuse.rgb, m.checker, m.checkerOrigin.xyz, p);
+        // The cone's footprint here filters the diffuse texture and the
+        // normal map; a mapped normal is kept facing the viewer as
+        // shadingNormal() keeps an interpolated one.
+        float coneWidth = pending.cone.x + pending.cone.y * hit.t;
+        uvec2 slots = m.textureSlots.xy;
+        if (slots.x != kNoTexture || slots.y != kNoTexture) {
+            SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, m.textureParams.x);
+            float cosine = abs(dot(ray.dir, n));
+            if (slots.x != kNoTexture)
+                m.diffuse.rgb *= textureColor(slots.x, s.uv, rayConeLod(slots.x, s, coneWidth, cosine));
+            if (slots.y != kNoTexture) {
+                ns = normalMapped(slots.y, m.textureParams.y, s, ns, rayConeLod(slots.y, s, coneWidth, cosine));
+                float facing = dot(ns, -ray.dir);
+                if (facing < 1e-3) ns = normalize(ns + (1e-3 - facing) * -ray.dir);
+            }
+        }
 
         LocalShading local = shadeLocal(m, pOutside, ns, n, -ray.dir);
         rayCount.y += local.shadowRays;
@@ -152,6 +174,12 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // the geometric normal's.
         uint childDepth = pending.depth + 1u;
         vec3 reflectWeight = kr * m.specular.rgb;
+        // The children's cones start with this footprint; a curved surface
+        // spreads them (paraxial optics, signed curvature k > 0 convex
+        // towards the ray): a mirror adds 2 k w (focal length 1 / (2 k)),
+        // refraction from index n1 into n2 scales the angle by
+        // eta = n1 / n2 and adds -(1 - eta) k w (the surface's power).
+        float curvature = surfaceCurvature(prim, hit.normal) * (frontFace ? 1.0 : -1.0);
         if (kt > 0.0) {
             float eta = frontFace ? 1.0 / ior : ior;
             vec3 refracted = refract(ray.dir, ns, eta);
@@ -160,16 +188,18 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
                 reflectWeight += vec3(kt);
             } else {
                 uint component = pending.depth == 0u ? kAovTransmission : pending.component;
+                vec2 cone = vec2(coneWidth, eta * pending.cone.y - (1.0 - eta) * curvature * coneWidth);
                 stack[top++] = PendingRay(Ray(offsetRay(p, -n), normalize(refracted)),
-                                          pending.weight * kt, childDepth, component);
+                                          pending.weight * kt, childDepth, component, cone);
             }
         }
         if (any(greaterThan(reflectWeight, vec3(0.0)))) {
             uint component = pending.depth == 0u ? kAovReflection : pending.component;
             vec3 reflected = reflect(ray.dir, ns);
             if (dot(reflected, n) <= 0.0) reflected = reflect(ray.dir, n);
+            vec2 cone = vec2(coneWidth, pending.cone.y + 2.0 * curvature * coneWidth);
             stack[top++] = PendingRay(Ray(pOutside, reflected),
-                                      pending.weight * reflectWeight, childDepth, component);
+                                      pending.weight * reflectWeight, childDepth, component, cone);
         }
     }
     if (end > first) addToSpread(spread, sampleColor, sampleObject, end == first + 1u);

@@ -391,6 +391,69 @@ TEST(PovrayCrossCheck, AbsorbingGlassShadowsOutOfView) {
     expectAgreement("absorbing_glass_shadows", loadSceneFromString(xml, "absorbing_glass_shadows.xml"));
 }
 
+// Image textures (README "Textures"), exported as image_map pigments: a
+// smooth test texture (tests/test_support.h), 8-bit sRGB, on white objects.
+// POV-Ray has no mip maps: the textures here are magnified or near one
+// texel per pixel, where ours samples level 0 too. The scene files and
+// textures go into povrayDir(), the folder POV-Ray may read.
+const std::string kTexturedLights = R"(
+  <camera><position x="0" y="1.6" z="4"/><window_position x="0" y="1.3" z="3"/><fov>45</fov></camera>
+  <ambient_light r="1" g="1" b="1"/>
+  <lights><light><position x="3" y="6" z="5"/><color r="0.8" g="0.8" b="0.8"/></light></lights>)";
+const std::string kTexturedFloor = R"(
+    <object><position x="0" y="0" z="0"/><diffuse_color r="0.6" g="0.6" b="0.6"/>
+      <properties><type>plane</type><normal x="0" y="1" z="0"/>
+        <ambiente_coef>0.2</ambiente_coef><diffuse_coef>0.7</diffuse_coef></properties></object>)";
+
+// The spherical map (map_type 1): the same longitude from +x towards +z and
+// latitude as sphereUv(), moved with the sphere. The texture's red is a sine
+// of u, so a mirrored longitude would turn the sphere's front from red to
+// green; its green is a ramp in v (a flipped latitude).
+TEST(PovrayCrossCheck, TexturedSphereSphericalMap) {
+    writeSmoothTexture(povrayDir() / "smooth.png");
+    std::string xml = "<scene>" + kTexturedLights + "\n  <objects>" + kTexturedFloor + R"(
+    <object><position x="0.2" y="1" z="0"/><diffuse_color r="1" g="1" b="1"/>
+      <properties><type>sphere</type><radius>1</radius><diffuse_texture>smooth.png</diffuse_texture>
+        <ambiente_coef>0.3</ambiente_coef><diffuse_coef>0.7</diffuse_coef></properties></object>
+  </objects>
+</scene>)";
+    expectAgreement("textured_sphere", loadSceneFromString(xml, povrayDir() / "textured_sphere.xml"));
+}
+
+// Mesh texture coordinates (uv_mapping, each triangle's uv_vectors): a
+// curved sheet of 8 x 4 quads on a cylinder arc, u across it, v up.
+TEST(PovrayCrossCheck, TexturedMeshUvMapping) {
+    writeSmoothTexture(povrayDir() / "smooth.png");
+    std::string polygons;
+    auto vertex = [](int i, int j) {
+        double angle = glm::radians(-60.0 + 120.0 * i / 8.0);
+        char text[200];
+        std::snprintf(text, sizeof text, "<vertex x=\"%.6f\" y=\"%.6f\" z=\"%.6f\"/>", 1.5 * std::sin(angle),
+                      0.2 + 1.6 * j / 4.0, 1.5 * std::cos(angle) - 1.8);
+        return std::string(text);
+    };
+    auto uv = [](int i, int j) {
+        char text[80];
+        std::snprintf(text, sizeof text, "<uv u=\"%g\" v=\"%g\"/>", i / 8.0, j / 4.0);
+        return std::string(text);
+    };
+    for (int i = 0; i < 8; ++i)
+        for (int j = 0; j < 4; ++j) {
+            polygons += "<polygon>" + vertex(i, j) + vertex(i + 1, j) + vertex(i + 1, j + 1) + uv(i, j) + uv(i + 1, j) +
+                        uv(i + 1, j + 1) + "</polygon>\n";
+            polygons += "<polygon>" + vertex(i, j) + vertex(i + 1, j + 1) + vertex(i, j + 1) + uv(i, j) +
+                        uv(i + 1, j + 1) + uv(i, j + 1) + "</polygon>\n";
+        }
+    std::string xml = "<scene>" + kTexturedLights + "\n  <objects>" + kTexturedFloor + R"(
+    <object><diffuse_color r="1" g="1" b="1"/>
+      <properties><type>mesh</type><diffuse_texture>smooth.png</diffuse_texture>
+        <ambiente_coef>0.3</ambiente_coef><diffuse_coef>0.7</diffuse_coef><polygons>)" +
+                      polygons + R"(</polygons></properties></object>
+  </objects>
+</scene>)";
+    expectAgreement("textured_mesh", loadSceneFromString(xml, povrayDir() / "textured_mesh.xml"));
+}
+
 // The exporter executable: writes what exportPovray() writes, and reports a
 // bad scene like whitted does (FILE:LINE: message, exit status 2) without
 // creating the output file.

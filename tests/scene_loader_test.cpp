@@ -487,8 +487,8 @@ std::string nested(int depth) {
 
 const std::string kPropertyList =
     "type, refraction_coef, transmission_coef, specular_coef, diffuse_coef, ambiente_coef, reflective, shininess, "
-    "reflection_coef, checker_color, checker_size, absorption, radius, height, axis, normal, size, vertex, polygons, "
-    "file, scale, rotation, operation";
+    "reflection_coef, checker_color, checker_size, absorption, diffuse_texture, texture_scale, normal_map, "
+    "normal_strength, radius, height, axis, normal, size, vertex, polygons, file, scale, rotation, operation";
 
 std::vector<BadCase> xmlCases() {
     const std::string camera =
@@ -768,7 +768,7 @@ std::vector<BadCase> objectCases() {
          "t.xml:13: unknown element <poly> in <polygons>; expected polygon"},
         {"UnknownInPolygon",
          sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "\n<normal/></polygon></polygons>")),
-         "t.xml:13: unknown element <normal> in <polygon>; expected vertex"},
+         "t.xml:13: unknown element <normal> in <polygon>; expected one of: vertex, uv"},
         {"TwoVertexPolygon",
          sceneWith(objectOf("mesh",
                             "<polygons>\n<polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1\" y=\"0\" z=\"0\"/>"

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <sys/wait.h>
+#include <vector>
 
 namespace whitted::test {
 namespace {
@@ -88,6 +89,31 @@ void expectGoldenMatch(const std::filesystem::path& got, const std::filesystem::
         writeImage(diffPath, w1, h1, c1, diff, PixelEncoding::Linear8);
     EXPECT_LE(mean, kMaxMeanLevels) << what << ": mean difference in 8-bit levels; see " << diffPath;
     EXPECT_LE(outlierFraction, kMaxOutlierFraction) << what << ": fraction of pixels off by > " << kOutlierLevels;
+}
+
+void writeTestTexture(const std::filesystem::path& path, int width, int height,
+                      const std::function<glm::vec3(float u, float v)>& colour) {
+    std::vector<float> pixels(size_t(width) * height * 3);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            glm::vec3 c = colour((float(x) + 0.5f) / float(width), 1.0f - (float(y) + 0.5f) / float(height));
+            for (int k = 0; k < 3; ++k) pixels[(size_t(y) * width + x) * 3 + k] = c[k];
+        }
+    writeImage(path, width, height, 3, pixels, PixelEncoding::Srgb8);
+}
+
+void writeQuadrantTexture(const std::filesystem::path& path) {
+    writeTestTexture(path, 64, 64, [](float u, float v) {
+        if (v >= 0.5f) return u < 0.5f ? kQuadrantTopLeft : kQuadrantTopRight;
+        return u < 0.5f ? kQuadrantBottomLeft : kQuadrantBottomRight;
+    });
+}
+
+void writeSmoothTexture(const std::filesystem::path& path) {
+    writeTestTexture(path, 64, 64, [](float u, float v) {
+        constexpr float kTau = 6.28318531f;
+        return glm::vec3(0.45f + 0.4f * std::sin(kTau * u), 0.1f + 0.8f * v, 0.4f + 0.3f * std::sin(kTau * (u + v)));
+    });
 }
 
 }  // namespace whitted::test

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace whitted::test {
@@ -38,6 +39,21 @@ std::filesystem::path outputDir();  // created on demand, for diff images
 // to `diffPath` and the test fails with `what` in its messages.
 void expectGoldenMatch(const std::filesystem::path& got, const std::filesystem::path& want,
                        const std::filesystem::path& diffPath, const std::string& what);
+
+// Test textures (README "Textures"), written at run time as 8-bit sRGB PNG
+// files: `colour(u, v)` gives the linear colour of the texel whose centre
+// is at (u, v) (v up, as the scene's texture coordinates).
+void writeTestTexture(const std::filesystem::path& path, int width, int height,
+                      const std::function<glm::vec3(float u, float v)>& colour);
+// 64x64, four flat quadrants (v up): top left red, top right green, bottom
+// left blue, bottom right yellow (kQuadrant* in linear RGB).
+inline const glm::vec3 kQuadrantTopLeft{0.8f, 0.1f, 0.1f}, kQuadrantTopRight{0.1f, 0.7f, 0.1f},
+    kQuadrantBottomLeft{0.1f, 0.1f, 0.8f}, kQuadrantBottomRight{0.8f, 0.7f, 0.1f};
+void writeQuadrantTexture(const std::filesystem::path& path);
+// 64x64, smooth: red a sine of u (once around), green a ramp in v, blue a
+// sine of u + v; no sharp edges, so lookups that differ by a fraction of a
+// texel (POV-Ray's bilinear image_map against ours) differ little.
+void writeSmoothTexture(const std::filesystem::path& path);
 
 // Pixel access into an RGBA layer.
 inline glm::vec4 pixel(const RenderResult& r, uint32_t layer, int x, int y) {

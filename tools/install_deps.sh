@@ -10,6 +10,7 @@ packages=(
   libglfw3-dev libglm-dev libtinyxml2-dev libopenimageio-dev openimageio-tools
   libgtest-dev libcli11-dev
   povray xvfb xauth
+  assimp-testmodels  # a real textured glTF (BoxTextured.glb) for tests/texture_test.cpp
   python3-matplotlib
   clang-14 libfuzzer-14-dev libclang-rt-14-dev
   libassimp-dev assimp-testmodels

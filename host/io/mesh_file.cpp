@@ -1,11 +1,16 @@
 #include "io/mesh_file.h"
 
+#include "io/texture_file.h"
+
+#include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include <assimp/Importer.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <span>
 #include <system_error>
 
 namespace whitted {
@@ -29,9 +34,51 @@ bool unitNormal(const aiVector3D& n, glm::dvec3& out) {
     return true;
 }
 
+// The base-colour texture of a material: embedded in the file ("*N", or
+// the name of an embedded texture) or a file relative to the model's folder.
+std::shared_ptr<const TextureData> baseColourTexture(const aiScene& scene, const aiMaterial& material,
+                                                     const std::filesystem::path& modelPath) {
+    aiString name;
+    if (material.GetTexture(aiTextureType_BASE_COLOR, 0, &name) != AI_SUCCESS &&
+        material.GetTexture(aiTextureType_DIFFUSE, 0, &name) != AI_SUCCESS)
+        return nullptr;
+    std::string written = name.C_Str();
+    try {
+        if (const aiTexture* embedded = scene.GetEmbeddedTexture(name.C_Str())) {
+            std::string label = modelPath.filename().string() + " embedded texture " + written;
+            if (embedded->mHeight == 0) {  // compressed: mWidth bytes of a PNG, JPEG, ... file
+                auto bytes = std::span(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth);
+                return std::make_shared<const TextureData>(
+                    readTextureMemory(bytes, embedded->achFormatHint, TextureEncoding::Colour, label));
+            }
+            // Raw 8-bit BGRA texels (sRGB, as a PNG's), rows from the top.
+            size_t count = size_t(embedded->mWidth) * embedded->mHeight;
+            std::vector<float> rgba(count * 4);
+            auto decode = [](unsigned char c) {
+                float v = float(c) / 255.0f;
+                return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+            };
+            for (size_t i = 0; i < count; ++i) {
+                const aiTexel& t = embedded->pcData[i];
+                rgba[i * 4 + 0] = decode(t.r);
+                rgba[i * 4 + 1] = decode(t.g);
+                rgba[i * 4 + 2] = decode(t.b);
+                rgba[i * 4 + 3] = float(t.a) / 255.0f;
+            }
+            return std::make_shared<const TextureData>(
+                textureFromPixels(int(embedded->mWidth), int(embedded->mHeight), rgba, label));
+        }
+        std::filesystem::path file(written);
+        if (file.is_relative()) file = modelPath.parent_path() / file;
+        return std::make_shared<const TextureData>(readTextureFile(file, TextureEncoding::Colour));
+    } catch (const TextureFileError& error) {
+        throw MeshFileError("has a texture \"" + written + "\" that " + error.what());
+    }
+}
+
 }  // namespace
 
-MeshFileData readMeshFile(const std::filesystem::path& path) {
+MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials withMaterials) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw MeshFileError("does not exist");
     if (std::filesystem::is_directory(path, ec)) throw MeshFileError("is a directory, expected a model file");
@@ -56,9 +103,29 @@ MeshFileData readMeshFile(const std::filesystem::path& path) {
     }
 
     MeshFileData data;
-    bool anyNormals = false;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m)
+    if (withMaterials == MeshFileMaterials::Read)
+        for (unsigned m = 0; m < scene->mNumMaterials; ++m) {
+            const aiMaterial& material = *scene->mMaterials[m];
+            MeshFileMaterial read;
+            // The material Assimp makes up for a file without any (OBJ
+            // without MTL, PLY, STL: diffuse 0.6 grey) stays white.
+            if (material.GetName() == aiString(AI_DEFAULT_MATERIAL_NAME)) {
+                data.materials.push_back(read);
+                continue;
+            }
+            aiColor4D colour;
+            if (material.Get(AI_MATKEY_BASE_COLOR, colour) == AI_SUCCESS ||
+                material.Get(AI_MATKEY_COLOR_DIFFUSE, colour) == AI_SUCCESS)
+                if (std::isfinite(colour.r) && std::isfinite(colour.g) && std::isfinite(colour.b))
+                    read.baseColour = glm::clamp(glm::dvec3(colour.r, colour.g, colour.b), 0.0, 1.0);
+            read.baseColourTexture = baseColourTexture(*scene, material, path);
+            data.materials.push_back(std::move(read));
+        }
+    bool anyNormals = false, anyUvs = false;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
         if (scene->mMeshes[m]->HasNormals()) anyNormals = true;
+        if (scene->mMeshes[m]->HasTextureCoords(0)) anyUvs = true;
+    }
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
         const aiMesh* mesh = scene->mMeshes[m];
         for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
@@ -75,6 +142,17 @@ MeshFileData readMeshFile(const std::filesystem::path& path) {
                 }
             }
             data.triangles.push_back(triangle);
+            if (!data.materials.empty())
+                data.triangleMaterials.push_back(std::min(mesh->mMaterialIndex, scene->mNumMaterials - 1));
+            if (anyUvs) {
+                std::array<glm::dvec2, 3> uv{};
+                if (mesh->HasTextureCoords(0))
+                    for (int k = 0; k < 3; ++k) {
+                        const aiVector3D& t = mesh->mTextureCoords[0][face.mIndices[k]];
+                        uv[k] = std::isfinite(t.x) && std::isfinite(t.y) ? glm::dvec2(t.x, t.y) : glm::dvec2(0.0);
+                    }
+                data.uvs.push_back(uv);
+            }
             if (!anyNormals) continue;
             // The geometric normal stands in for missing or unusable ones.
             glm::dvec3 cross = glm::cross(triangle[1] - triangle[0], triangle[2] - triangle[0]);

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <glm/glm.hpp>
 #include <stdexcept>
 #include <string>
@@ -26,16 +28,40 @@ public:
 // (the file has none: flat shading) or holds three unit vertex normals per
 // triangle; a triangle of a file that gives normals for only some of its
 // meshes, or a zero or non-finite one, gets its geometric normal (flat).
+// uvs is empty when no mesh of the file has texture coordinates, else it
+// holds each triangle's first UV channel (Assimp's convention: v up, (0, 0)
+// at the image's bottom-left corner, glTF's flipped to it); a triangle of a
+// mesh without them gets (0, 0).
+struct TextureData;
+
+// A material of the file, as far as whitted uses it: the base colour
+// (glTF baseColorFactor, OBJ/MTL Kd; white without one) and the base-colour
+// texture (glTF baseColorTexture, OBJ/MTL map_Kd; a file beside the model
+// or embedded in it), which multiplies it.
+struct MeshFileMaterial {
+    glm::dvec3 baseColour{1, 1, 1};
+    std::shared_ptr<const TextureData> baseColourTexture;
+};
+
 struct MeshFileData {
     std::vector<std::array<glm::dvec3, 3>> triangles;
     std::vector<std::array<glm::dvec3, 3>> normals;
+    std::vector<std::array<glm::dvec2, 3>> uvs;
+    // With MeshFileMaterials::Read: the file's materials and each triangle's
+    // index into them.
+    std::vector<MeshFileMaterial> materials;
+    std::vector<uint32_t> triangleMaterials;
 };
+
+enum class MeshFileMaterials { Ignore, Read };
 
 // Reads every triangle of `path`; points and lines are dropped, polygons are
 // triangulated. Throws MeshFileError when the file does not exist, has an
 // extension Assimp does not know, does not parse (Assimp's message is
 // included), has no triangles, or has a vertex that is not finite or beyond
 // ±1e6 (the scene format's limit).
-MeshFileData readMeshFile(const std::filesystem::path& path);
+// With MeshFileMaterials::Read it also reads the materials and their
+// textures; a texture that cannot be read throws MeshFileError naming it.
+MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials materials = MeshFileMaterials::Ignore);
 
 }  // namespace whitted

@@ -1,6 +1,9 @@
 #include "io/povray_export.h"
 
+#include "scene/texture.h"
+
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -29,9 +32,37 @@ std::string where(const Scene& scene, const Object& object) {
     return scene.sourcePath.string() + ":" + std::to_string(object.sourceLine);
 }
 
+// An image texture as POV-Ray's image_map: the file by its absolute path,
+// its type from the extension, 8-bit files sRGB-decoded as ours are
+// (gamma srgb), bilinear lookups (interpolate 2; POV-Ray has no mip maps),
+// placed as our mapping places it: spheres by the spherical map (map_type 1,
+// the same longitude and latitude as sphereUv()) moved to the centre,
+// meshes by their triangles' uv_vectors (uv_mapping). Other shapes are not
+// exported textured (povrayInexactMappings says so).
+std::string imageMap(const Material& m, const Shape& shape) {
+    std::string path = m.diffuseTexture.data->name;
+    std::string extension = path.substr(path.find_last_of('.') + 1);
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    std::string type = extension == "jpg" || extension == "jpeg" ? "jpeg"
+                       : extension == "tif" || extension == "tiff" ? "tiff"
+                                                                   : extension;
+    std::string map = type + " \"" + path + "\"" + (m.diffuseTexture.data->srgbDecoded ? " gamma srgb" : "") +
+                      " interpolate 2";
+    if (const Sphere* sphere = std::get_if<Sphere>(&shape))
+        return "image_map { " + map + " map_type 1 } translate " + vec(sphere->center);
+    if (std::holds_alternative<Mesh>(shape)) return "uv_mapping image_map { " + map + " }";
+    return "";
+}
+
+bool exportsTexture(const Material& m, const Shape& shape) {
+    return m.diffuseTexture && !m.diffuseTexture.written.empty() &&
+           (std::holds_alternative<Sphere>(shape) || std::holds_alternative<Mesh>(shape));
+}
+
 // pigment, finish and interior of one object (see the header for the
 // mapping and for what is not exact).
-std::string texture(const Material& m, bool shadows) {
+std::string texture(const Material& m, bool shadows, const Shape& shape) {
     std::ostringstream s;
     if (!shadows) s << "  no_shadow\n";
     // Shadow rays through a transparent surface are filtered by filter·Cd +
@@ -45,7 +76,11 @@ std::string texture(const Material& m, bool shadows) {
     };
     // The checker is POV-Ray's own pattern (first colour in the cells of
     // even sum), scaled and moved as ours; same coordinates (see the camera).
-    if (m.checkerSize > 0.0)
+    // A texture multiplies Cd: exact for a white Cd (the only case exported
+    // as such; see povrayInexactMappings).
+    if (exportsTexture(m, shape))
+        s << "  pigment { " << imageMap(m, shape) << " }\n";
+    else if (m.checkerSize > 0.0)
         s << "  pigment { checker " << colour(m.diffuseColor) << " " << colour(m.checkerColor) << " scale "
           << num(m.checkerSize) << " translate " << vec(m.checkerOrigin) << " }\n";
     else
@@ -76,8 +111,9 @@ std::string texture(const Material& m, bool shadows) {
     return s.str();
 }
 
-std::string triangleBody(const Triangle& t) {
-    return "triangle { " + vec(t.v0) + ", " + vec(t.v1) + ", " + vec(t.v2) + " }";
+std::string uvVectors(const std::array<glm::dvec2, 3>& uv) {
+    auto v2 = [](const glm::dvec2& v) { return "<" + num(v.x) + ", " + num(v.y) + ">"; };
+    return " uv_vectors " + v2(uv[0]) + ", " + v2(uv[1]) + ", " + v2(uv[2]);
 }
 
 // A triangle without area renders nothing here; POV-Ray would warn about it.
@@ -126,7 +162,7 @@ struct ShapeWriter {
                                                                        : "union";
         s << op << " {\n";
         for (const CsgChild& child : csg.children) {
-            std::string own = child.ownMaterial ? texture(child.material, shadows) : std::string();
+            std::string own = child.ownMaterial ? texture(child.material, shadows, child.shape) : std::string();
             std::visit(ShapeWriter{s, own, shadows}, child.shape);
         }
         s << material << "}\n";
@@ -140,12 +176,14 @@ struct ShapeWriter {
         for (size_t i = 0; i < m.triangles.size(); ++i) {
             const Triangle& t = m.triangles[i];
             if (degenerate(t)) continue;
+            // Texture coordinates ride on each triangle (uv_vectors).
+            std::string uv = m.uvs.empty() ? "" : uvVectors(m.uvs[i]);
             if (m.normals.empty()) {
-                s << "  " << triangleBody(t) << "\n";
+                s << "  triangle { " << vec(t.v0) << ", " << vec(t.v1) << ", " << vec(t.v2) << uv << " }\n";
             } else {
                 const auto& n = m.normals[i];
                 s << "  smooth_triangle { " << vec(t.v0) << ", " << vec(n[0]) << ", " << vec(t.v1) << ", "
-                  << vec(n[1]) << ", " << vec(t.v2) << ", " << vec(n[2]) << " }\n";
+                  << vec(n[1]) << ", " << vec(t.v2) << ", " << vec(n[2]) << uv << " }\n";
             }
         }
         s << material << "}\n";
@@ -205,7 +243,7 @@ std::string exportPovray(const Scene& scene, const PovrayExportOptions& options)
 
     for (const Object& object : scene.objects) {
         if (object.sourceLine > 0) s << "// " << where(scene, object) << "\n";
-        std::string material = texture(object.material, options.shadows);
+        std::string material = texture(object.material, options.shadows, object.shape);
         std::visit(ShapeWriter{s, material, options.shadows}, object.shape);
     }
     return s.str();
@@ -234,6 +272,12 @@ std::vector<std::string> povrayInexactMappings(const Scene& scene) {
                 notes.push_back(where(scene, object) +
                                 ": a Phong highlight with a coloured specular_color (POV-Ray's phong highlight takes "
                                 "the light's colour; exported as ks times the mean of Cs)");
+            if (m.diffuseTexture && (material != &object.material || !exportsTexture(m, object.shape) ||
+                                     m.diffuseColor != glm::dvec3(1.0)))
+                notes.push_back(where(scene, object) +
+                                ": an image texture on a shape other than a sphere or a mesh, from a model file's "
+                                "embedded image, or with a diffuse_color other than white (exported untextured)");
+            if (m.normalMap) notes.push_back(where(scene, object) + ": a normal map (not exported)");
             if (m.transmission > 0.0)
                 notes.push_back(where(scene, object) +
                                 ": transmission (POV-Ray dims the local terms by the pigment's opacity and filters "

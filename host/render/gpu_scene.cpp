@@ -5,15 +5,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <stdexcept>
 
 namespace whitted {
 
 // The GLSL side reads these with std430 (storage) and std140 (uniform)
 // rules; vec4-only members make both match the C++ layout.
 static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, info) == 48);
-static_assert(sizeof(gpu::Material) == 112 && offsetof(gpu::Material, coefs1) == 48 &&
+static_assert(sizeof(gpu::Material) == 144 && offsetof(gpu::Material, coefs1) == 48 &&
               offsetof(gpu::Material, checker) == 64 && offsetof(gpu::Material, checkerOrigin) == 80 &&
-              offsetof(gpu::Material, absorption) == 96);
+              offsetof(gpu::Material, absorption) == 96 && offsetof(gpu::Material, textureSlots) == 112 &&
+              offsetof(gpu::Material, textureParams) == 128);
+static_assert(sizeof(gpu::SurfaceAttributes) == 32 && offsetof(gpu::SurfaceAttributes, uv2) == 16);
 static_assert(sizeof(gpu::Light) == 32);
 static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, accel) == 112 &&
               offsetof(gpu::FrameParams, addresses1) == 144 && offsetof(gpu::FrameParams, addresses2) == 160);
@@ -24,14 +27,35 @@ static_assert(sizeof(gpu::RayCounters) == 16);
 
 namespace {
 
-gpu::Material packMaterial(const Material& m) {
+// The slot of a texture in the kBindingTextures array, given on first use.
+uint32_t textureSlot(const TextureRef& texture, std::vector<std::shared_ptr<const TextureData>>& slots) {
+    if (!texture) return gpu::kNoTexture;
+    auto it = std::find(slots.begin(), slots.end(), texture.data);
+    if (it != slots.end()) return uint32_t(it - slots.begin());
+    if (slots.size() == gpu::kMaxTextures)
+        throw std::runtime_error("the scene uses more than " + std::to_string(gpu::kMaxTextures) +
+                                 " texture files, the most a render binds");
+    slots.push_back(texture.data);
+    return uint32_t(slots.size() - 1);
+}
+
+gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const TextureData>>& textures) {
     return {.diffuse = glm::vec4(glm::vec3(m.diffuseColor), 1.0f),
             .specular = glm::vec4(glm::vec3(m.specularColor), 1.0f),
             .coefs0 = glm::vec4(float(m.ambient), float(m.diffuse), float(m.specular), float(m.shininess)),
             .coefs1 = glm::vec4(float(m.reflection), float(m.transmission), float(m.ior), 0.0f),
             .checker = glm::vec4(glm::vec3(m.checkerColor), float(m.checkerSize)),
             .checkerOrigin = glm::vec4(glm::vec3(m.checkerOrigin), 0.0f),
-            .absorption = glm::vec4(glm::vec3(m.absorption), 0.0f)};
+            .absorption = glm::vec4(glm::vec3(m.absorption), 0.0f),
+            .textureSlots =
+                glm::uvec4(textureSlot(m.diffuseTexture, textures), textureSlot(m.normalMap, textures), 0, 0),
+            .textureParams = glm::vec4(float(m.textureScale), float(m.normalStrength), 0.0f, 0.0f)};
+}
+
+// Whether a mesh object needs per-triangle surface attributes.
+bool needsAttributes(const Object& object) {
+    const Mesh* mesh = std::get_if<Mesh>(&object.shape);
+    return mesh && !mesh->uvs.empty() && (object.material.diffuseTexture || object.material.normalMap);
 }
 
 // Camera frame: image right = cross(forward, up), right and up scaled to the
@@ -87,17 +111,28 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     // index stays its index).
     CsgArrays csg;
     csg.firstMaterial = uint32_t(scene.objects.size());
+    bool attributes = std::any_of(scene.objects.begin(), scene.objects.end(), needsAttributes);
+    if (attributes) g.attributes.reserve(count);
     for (const Object& object : scene.objects) {
         uint32_t material = uint32_t(g.materials.size());
-        g.materials.push_back(packMaterial(object.material));
+        g.materials.push_back(packMaterial(object.material, g.textures));
+        size_t first = primitives.size();
         if (const Csg* c = std::get_if<Csg>(&object.shape)) {
             primitives.push_back(packCsg(*c, material, csg));
             bounds.push_back(boundsCsg(*c));
         } else {
             appendPrimitives(object.shape, material, primitives, bounds);
         }
+        if (!attributes) continue;
+        if (needsAttributes(object)) {
+            for (const auto& uv : std::get<Mesh>(object.shape).uvs)
+                g.attributes.push_back({.uv01 = glm::vec4(uv[0].x, uv[0].y, uv[1].x, uv[1].y),
+                                        .uv2 = glm::vec4(uv[2].x, uv[2].y, 0.0f, 0.0f)});
+        } else {
+            g.attributes.resize(g.attributes.size() + (primitives.size() - first), gpu::SurfaceAttributes{});
+        }
     }
-    for (const Material& m : csg.materials) g.materials.push_back(packMaterial(m));
+    for (const Material& m : csg.materials) g.materials.push_back(packMaterial(m, g.textures));
 
     // Bounded primitives go into the BVH (reordered to its leaf order),
     // unbounded ones (planes) after them. Bounds are padded by a few float
@@ -124,6 +159,10 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     for (uint32_t& k : source) k = bounded[k];
     source.insert(source.end(), unbounded.begin(), unbounded.end());
     g.primitives = std::move(primitives);
+    if (!g.attributes.empty()) {  // the same order as the primitives
+        std::vector<uint32_t> sourceCopy = source;
+        permuteInPlace(g.attributes, sourceCopy);
+    }
     permuteInPlace(g.primitives, source);
     // The csg leaves after every other primitive; each csg primitive's a.w
     // becomes the index of its first leaf there.
@@ -140,7 +179,9 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     g.params.ambientLight = glm::vec4(glm::vec3(scene.ambientLight), 0.0f);
     g.params.sizes = glm::uvec4(g.width, g.height, g.primitives.size(), g.lights.size());
     g.params.options = glm::uvec4(settings.samplesPerPixel, settings.maxDepth,
-                                  settings.auxiliary ? gpu::kOptionWriteAovs : 0u, settings.seed);
+                                  (settings.auxiliary ? gpu::kOptionWriteAovs : 0u) |
+                                      (settings.textureLodZero ? gpu::kOptionTextureLodZero : 0u),
+                                  settings.seed);
     if (settings.auxiliary) g.params.options.z |= uint32_t(settings.aovBounces) << gpu::kOptionAovBouncesShift;
     g.params.accel = glm::uvec4(g.bvhNodes.size(), bounded.size(), unbounded.size(), 0);
     return g;

@@ -4,9 +4,11 @@
 #include "accel/bvh.h"
 #include "device_types.h"
 #include "render/render_settings.h"
+#include "scene/texture.h"
 #include "scene/scene.h"
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -19,6 +21,10 @@ struct GpuScene {
     std::vector<gpu::Light> lights;
     std::vector<gpu::BvhNode> bvhNodes;  // empty: brute force over all primitives
     std::vector<gpu::CsgNode> csgNodes;  // the csg objects' programs (empty: no csg)
+    // One entry per primitive (same order) when a textured mesh needs them, else empty.
+    std::vector<gpu::SurfaceAttributes> attributes;
+    // The images of the kBindingTextures array, by slot (Material.textureSlots).
+    std::vector<std::shared_ptr<const TextureData>> textures;
     BvhStats bvhStats;
     gpu::FrameParams params{};
     int width = 0;

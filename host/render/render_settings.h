@@ -56,6 +56,9 @@ struct RenderSettings {
     // rendered band by band and each band handed on when done, so memory
     // does not grow with the image. 0: the whole image at once (the window).
     uint64_t bandBytes = uint64_t(32) << 20;
+    // Sample every texture at its full-resolution level instead of the
+    // ray-cone level (tests of the filtering, shaders/texture.glsl).
+    bool textureLodZero = false;
 };
 
 }  // namespace whitted

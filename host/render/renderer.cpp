@@ -96,7 +96,9 @@ constexpr DescriptorBinding kBindings[] = {{gpu::kBindingParams, vk::DescriptorT
                                            {gpu::kBindingCounters, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingPixelList, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingGuide, vk::DescriptorType::eStorageBuffer},
-                                           {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer}};
+                                           {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingTextures, vk::DescriptorType::eCombinedImageSampler,
+                                            gpu::kMaxTextures}};
 constexpr uint32_t kStorageBindings = uint32_t(std::ranges::count(
     kBindings, vk::DescriptorType::eStorageBuffer, &DescriptorBinding::type));
 
@@ -212,8 +214,9 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
         readback_ = createBuffer(ctx, outputRow * bandRows_, vk::BufferUsageFlagBits::eTransferDst, kHostVisible);
     vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1},
                                           {vk::DescriptorType::eStorageBuffer, kStorageBindings},
+                                          {vk::DescriptorType::eCombinedImageSampler, gpu::kMaxTextures},
                                           {vk::DescriptorType::eAccelerationStructureKHR, 1}};
-    uint32_t poolSizeCount = trace_ == TracePath::RayQuery ? 3 : 2;
+    uint32_t poolSizeCount = trace_ == TracePath::RayQuery ? 4 : 3;
     descriptorPool_ = vk::raii::DescriptorPool(
         ctx.device, vk::DescriptorPoolCreateInfo{.flags = vk::DescriptorPoolCreateFlagBits::eFreeDescriptorSet,
                                                  .maxSets = 1, .poolSizeCount = poolSizeCount, .pPoolSizes = poolSizes});
@@ -297,6 +300,20 @@ void Renderer::uploadScene() {
     glm::uvec2 c = addressWords(csgNodes_);
     scene_.params.addresses2.x = c.x;
     scene_.params.addresses2.y = c.y;
+    // Textures and the per-primitive surface attributes (UVs of textured
+    // meshes; address 0 when no mesh needs them).
+    attributes_ = {};
+    textures_ = {};
+    textures_ = TextureSet(ctx_, scene_.textures);
+    deviceBytes_ += textures_.bytes();
+    if (!scene_.attributes.empty()) {
+        attributes_ = upload(scene_.attributes, "surface attributes");
+        deviceBytes_ += attributes_.size;
+        std::vector<gpu::SurfaceAttributes>().swap(scene_.attributes);
+    }
+    glm::uvec2 a = addressWords(attributes_);  // 0 when not made
+    scene_.params.addresses2.z = a.x;
+    scene_.params.addresses2.w = a.y;
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
 
     // In the order of kBindings.
@@ -307,6 +324,12 @@ void Renderer::uploadScene() {
     for (uint32_t i = 0; i < infos.size(); ++i)
         writes.push_back({.dstSet = *descriptorSet_, .dstBinding = kBindings[i].binding, .descriptorCount = 1,
                           .descriptorType = kBindings[i].type, .pBufferInfo = &infos[i]});
+    std::vector<vk::DescriptorImageInfo> textureInfos = textures_.descriptorInfos();
+    writes.push_back({.dstSet = *descriptorSet_,
+                      .dstBinding = gpu::kBindingTextures,
+                      .descriptorCount = gpu::kMaxTextures,
+                      .descriptorType = vk::DescriptorType::eCombinedImageSampler,
+                      .pImageInfo = textureInfos.data()});
     vk::AccelerationStructureKHR tlas = *accelerationStructures_.top.handle;
     vk::WriteDescriptorSetAccelerationStructureKHR tlasInfo{.accelerationStructureCount = 1,
                                                             .pAccelerationStructures = &tlas};

@@ -8,6 +8,7 @@
 #include "render/band_sink.h"
 #include "render/gpu_scene.h"
 #include "render/render_settings.h"
+#include "render/texture_set.h"
 #include "vk/buffer.h"
 #include "vk/compute_pipeline.h"
 
@@ -126,6 +127,8 @@ private:
     uint32_t bandRows_ = 0;  // rows of the region per band
     Buffer params_, primitives_, materials_, lights_, output_, counters_, bvhNodes_;
     Buffer csgNodes_;  // the csg objects' programs (FrameParams.addresses2.xy)
+    Buffer attributes_;     // gpu::SurfaceAttributes per primitive, when a textured mesh needs them
+    TextureSet textures_;   // the kBindingTextures array
     // Adaptive anti-aliasing: pixel list, first-pass guide, sample
     // statistics (host-visible: the host reads and writes them between
     // passes); and the band's read-back staging buffer.

@@ -7,11 +7,23 @@
 #include <array>
 #include <filesystem>
 #include <optional>
+#include <memory>
 #include <string>
 #include <variant>
 #include <vector>
 
 namespace whitted {
+
+struct TextureData;  // io/texture_file.h
+
+// An image texture of a material: the path as the scene file wrote it
+// (relative to the scene file's folder) and its decoded texels, shared by
+// the objects and scene copies that use the same file.
+struct TextureRef {
+    std::string written;
+    std::shared_ptr<const TextureData> data;
+    explicit operator bool() const { return data != nullptr; }
+};
 
 // Pinhole camera. The image plane ("window") is centred on windowCenter and
 // perpendicular to forward = windowCenter - eye. Image right is
@@ -48,6 +60,14 @@ struct Material {
     double checkerSize = 0.0;
     glm::dvec3 checkerOrigin{0, 0, 0};  // the object's <position> (with a checker)
     glm::dvec3 absorption{0, 0, 0};     // Beer-Lambert sigma per unit length, inside the object
+    // Image texture multiplying Cd (README "Textures"), and on planes the
+    // world length of one repeat of it.
+    TextureRef diffuseTexture;
+    double textureScale = 1.0;
+    // Tangent-space normal map (linear data, OpenGL convention: green is
+    // +v) and how far it tilts the normal: its x, y scaled by the strength.
+    TextureRef normalMap;
+    double normalStrength = 1.0;
 };
 
 struct Sphere {
@@ -86,6 +106,8 @@ struct Box {
 // scale, rotation and position). normals is empty for a flat-shaded mesh, or
 // holds the unit vertex normals of each triangle (v0, v1, v2 order), world
 // space, for smooth shading; their side may differ from the winding's.
+// uvs is empty, or holds the texture coordinates of each triangle's
+// vertices (v up, (0, 0) the image's bottom-left corner).
 struct Mesh {
     std::vector<Triangle> triangles;
     std::vector<std::array<glm::dvec3, 3>> normals;
@@ -97,8 +119,13 @@ struct Mesh {
         glm::dvec3 position{0};      // the object's <position>
         glm::dvec3 scale{1};
         glm::dvec3 rotationDegrees{0};
+        // A file whose own materials apply (the object set no colour) is
+        // split into one object per material: part k of them, the writer
+        // writing the <file> once, for part 0, without a colour. -1: whole.
+        int part = -1;
     };
     std::optional<FileSource> source;
+    std::vector<std::array<glm::dvec2, 3>> uvs;
 };
 
 struct CsgChild;

@@ -1,6 +1,7 @@
 #include "scene/scene_loader.h"
 
 #include "io/mesh_file.h"
+#include "io/texture_file.h"
 
 #include <tinyxml2.h>
 
@@ -14,6 +15,8 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <map>
+#include <optional>
 #include <stdexcept>
 #include <system_error>
 #include <utility>
@@ -296,7 +299,8 @@ const std::vector<std::string> kCsgChildTypes = {"sphere", "cylinder", "box", "c
 const std::vector<std::string_view> kObjectMaterialElements = {"diffuse_color", "specular_color"};
 const std::vector<std::string_view> kMaterialProperties = {
     "refraction_coef", "transmission_coef", "specular_coef", "diffuse_coef", "ambiente_coef", "reflective",
-    "shininess",       "reflection_coef",   "checker_color", "checker_size", "absorption"};
+    "shininess",       "reflection_coef",   "checker_color", "checker_size", "absorption",
+    "diffuse_texture", "texture_scale",   "normal_map",    "normal_strength"};
 
 // <properties>: the seed's material elements, the extensions, then the
 // shape elements (each applies to some types only; see readShape).
@@ -312,6 +316,10 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"checker_color"},
                                                {"checker_size"},
                                                {"absorption"},
+                                               {"diffuse_texture"},
+                                               {"texture_scale"},
+                                               {"normal_map"},
+                                               {"normal_strength"},
                                                {"radius"},
                                                {"height"},
                                                {"axis"},
@@ -548,7 +556,8 @@ private:
 
     void readObjects(const XMLElement* e) {
         ElementReader objects(diag_, e, {{"object", true}});
-        for (const XMLElement* object : objects.all("object")) scene_.objects.push_back(readObject(object));
+        for (const XMLElement* object : objects.all("object"))
+            for (Object& o : readObject(object)) scene_.objects.push_back(std::move(o));
         if (scene_.objects.empty()) diag_.warn(e, "scene has no objects; the image will be black");
     }
 
@@ -561,10 +570,17 @@ private:
         int depth;  // of the parent: 1 for a top-level csg object
     };
 
-    Object readObject(const XMLElement* e, const CsgParent* csg = nullptr) {
+    // One object, or for a model file with materials of its own, used when
+    // the scene gives the object no colour (README "Model files"), one per
+    // material of the file (a csg child is one object: meshes are refused there).
+    std::vector<Object> readObject(const XMLElement* e, const CsgParent* csg = nullptr) {
         ElementReader object(diag_, e,
                              {{"position"}, {"diffuse_color"}, {"specular_color"}, {"properties"}, {"objects"}});
         ElementReader properties(diag_, object.required("properties"), kPropertyRules);
+        wantFileMaterials_ = !e->FirstChildElement("diffuse_color") &&
+                             !properties.element()->FirstChildElement("diffuse_texture");
+        fileMaterials_.clear();
+        fileTriangleMaterials_.clear();
 
         const XMLElement* typeElement = properties.required("type");
         std::string type = valueText(typeElement);
@@ -589,6 +605,7 @@ private:
                 diag_.fail(objects, "<objects> does not apply to type " + type + "; only a csg object has children");
             result.shape = readShape(type, object, properties, origin);
         }
+        readTextures(type, properties, result);
         // A checker is anchored at the object's position (the origin without one).
         const XMLElement* position = object.optional("position");
         if (ownMaterial && position && result.material.checkerSize > 0)
@@ -598,7 +615,88 @@ private:
         // belongs to another type.
         if (const XMLElement* extra = properties.firstUnused())
             diag_.fail(extra, tag(extra->Name()) + " does not apply to type " + type);
-        return result;
+        if (fileMaterials_.empty()) return {std::move(result)};
+        return splitByFileMaterial(std::move(result));
+    }
+
+    // A model file's triangles grouped by their material, each group an
+    // object with the scene's material but the file's base colour and
+    // texture (the texture where the file has texture coordinates).
+    std::vector<Object> splitByFileMaterial(Object whole) {
+        const Mesh& mesh = std::get<Mesh>(whole.shape);
+        std::vector<Object> parts;
+        for (uint32_t k = 0; k < fileMaterials_.size(); ++k) {
+            Object part;
+            part.sourceLine = whole.sourceLine;
+            part.material = whole.material;
+            part.material.diffuseColor = fileMaterials_[k].baseColour;
+            Mesh piece;
+            for (size_t i = 0; i < mesh.triangles.size(); ++i) {
+                if (fileTriangleMaterials_[i] != k) continue;
+                piece.triangles.push_back(mesh.triangles[i]);
+                if (!mesh.normals.empty()) piece.normals.push_back(mesh.normals[i]);
+                if (!mesh.uvs.empty()) piece.uvs.push_back(mesh.uvs[i]);
+            }
+            if (piece.triangles.empty()) continue;
+            if (fileMaterials_[k].baseColourTexture && !piece.uvs.empty())
+                part.material.diffuseTexture = {"", fileMaterials_[k].baseColourTexture};
+            if (mesh.source) {
+                piece.source = mesh.source;
+                piece.source->part = int(parts.size());
+            }
+            part.shape = std::move(piece);
+            parts.push_back(std::move(part));
+        }
+        return parts;
+    }
+
+    // ---- Textures ----
+
+    // <diffuse_texture> and <normal_map> on every type but triangle (which
+    // has no texture coordinates; a mesh of one polygon with <uv> has),
+    // <normal_strength> with a <normal_map>, <texture_scale> on
+    // planes only (README "Textures"). Left unread elsewhere, they are
+    // reported as not applying to the type.
+    void readTextures(const std::string& type, ElementReader& properties, Object& object) {
+        if (type == "triangle") return;
+        if (const XMLElement* e = properties.optional("diffuse_texture")) {
+            if (const Mesh* mesh = std::get_if<Mesh>(&object.shape); mesh && mesh->uvs.empty())
+                diag_.fail(e, "<diffuse_texture> on a mesh needs texture coordinates: the mesh file has none, or "
+                              "the <polygon>s have no <uv>");
+            object.material.diffuseTexture = readTexture(e, TextureEncoding::Colour);
+        }
+        if (const XMLElement* e = properties.optional("normal_map")) {
+            if (const Mesh* mesh = std::get_if<Mesh>(&object.shape); mesh && mesh->uvs.empty())
+                diag_.fail(e, "<normal_map> on a mesh needs texture coordinates: the mesh file has none, or "
+                              "the <polygon>s have no <uv>");
+            object.material.normalMap = readTexture(e, TextureEncoding::Data);
+        }
+        if (const XMLElement* e = properties.optional("normal_strength")) {
+            if (!object.material.normalMap)
+                diag_.fail(e, "<normal_strength> needs <normal_map> beside it in <properties>");
+            object.material.normalStrength = number(e, kNonNegative);
+        }
+        if (type == "plane")
+            if (const XMLElement* e = properties.optional("texture_scale"))
+                object.material.textureScale = number(e, kPositive);
+    }
+
+    // A texture file, its path relative to the scene file's folder; each
+    // file is read once per scene.
+    TextureRef readTexture(const XMLElement* e, TextureEncoding encoding) {
+        std::string written = valueText(e);
+        if (written.empty()) diag_.fail(e, tag(e->Name()) + " is empty; expected the path of an image file");
+        std::filesystem::path path(written);
+        if (path.is_relative()) path = scene_.sourcePath.parent_path() / path;
+        auto& cached = textures_[{path, encoding}];
+        if (!cached) {
+            try {
+                cached = std::make_shared<const TextureData>(readTextureFile(path, encoding));
+            } catch (const TextureFileError& error) {
+                diag_.fail(e, "texture file \"" + written + "\" " + error.what());
+            }
+        }
+        return {written, cached};
     }
 
     // Whether an <object> (already checked by readObject's readers) gives
@@ -651,7 +749,7 @@ private:
                                            " <object>; a csg object needs at least two");
         CsgParent parent{csg.position, &material, depth};
         for (const XMLElement* child : objects.all("object")) {
-            Object o = readObject(child, &parent);
+            Object o = std::move(readObject(child, &parent).front());  // one: no mesh children
             csg.children.push_back({std::move(o.shape), o.material, hasMaterial(child), o.sourceLine});
         }
         if (depth == 1 && leafCount(csg) > kCsgMaxLeaves)
@@ -837,9 +935,25 @@ private:
         ElementReader polygons(diag_, e, {{"polygon", true}});
         if (polygons.all("polygon").empty()) diag_.fail(e, "<polygons> has no <polygon>; a mesh needs at least one");
         Mesh mesh;
+        std::optional<bool> withUv;  // from the first polygon
         for (const XMLElement* polygon : polygons.all("polygon")) {
-            ElementReader vertices(diag_, polygon, {{"vertex", true}});
+            ElementReader vertices(diag_, polygon, {{"vertex", true}, {"uv", true}});
             Triangle local = readTriangle(polygon, vertices.all("vertex"), glm::dvec3(0));
+            // Texture coordinates: one <uv u=".." v=".."/> per vertex, in
+            // the vertices' order, on every polygon or on none.
+            const std::vector<const XMLElement*>& uvs = vertices.all("uv");
+            if (!uvs.empty() && uvs.size() != 3)
+                diag_.fail(polygon,
+                           "<polygon> has " + std::to_string(uvs.size()) + " <uv>, expected 3 (one per <vertex>)");
+            if (withUv && *withUv == uvs.empty())
+                diag_.fail(polygon, uvs.empty() ? "<polygon> has no <uv>, but the first <polygon> has"
+                                                : "<polygon> has <uv>, but the first <polygon> has none");
+            withUv = !uvs.empty();
+            std::array<glm::dvec2, 3> uv{};
+            for (size_t k = 0; k < uvs.size(); ++k) {
+                auto c = components(uvs[k], {{"u", kAnyValue}, {"v", kAnyValue}});
+                uv[k] = {c[0], c[1]};
+            }
             for (const glm::dvec3& v : {local.v0, local.v1, local.v2})
                 if (!placement.inRange(v)) diag_.fail(polygon, outOfRange(v));
             Triangle t{placement.point(local.v0), placement.point(local.v1), placement.point(local.v2)};
@@ -848,6 +962,7 @@ private:
                 continue;
             }
             mesh.triangles.push_back(t);
+            if (!uvs.empty()) mesh.uvs.push_back(uv);
         }
         if (mesh.triangles.empty()) diag_.fail(e, "every <polygon> in <polygons> is degenerate");
         return mesh;
@@ -863,7 +978,8 @@ private:
         std::string name = "mesh file \"" + written + "\"";
         MeshFileData data;
         try {
-            data = whitted::readMeshFile(path);
+            data = whitted::readMeshFile(path,
+                                         wantFileMaterials_ ? MeshFileMaterials::Read : MeshFileMaterials::Ignore);
         } catch (const MeshFileError& error) {
             diag_.fail(e, name + " " + error.what());
         }
@@ -880,6 +996,8 @@ private:
                 continue;
             }
             mesh.triangles.push_back(t);
+            if (!data.uvs.empty()) mesh.uvs.push_back(data.uvs[i]);
+            if (!data.triangleMaterials.empty()) fileTriangleMaterials_.push_back(data.triangleMaterials[i]);
             if (!data.normals.empty()) {
                 const auto& n = data.normals[i];
                 mesh.normals.push_back({placement.normal(n[0]), placement.normal(n[1]), placement.normal(n[2])});
@@ -888,6 +1006,7 @@ private:
         if (mesh.triangles.empty()) diag_.fail(e, "every triangle in " + name + " is degenerate");
         mesh.source = Mesh::FileSource{std::filesystem::absolute(path).lexically_normal(), placement.offset,
                                        placement.scale, placement.rotationDegrees};
+        if (!data.triangleMaterials.empty()) fileMaterials_ = std::move(data.materials);
         if (skipped > 0)
             diag_.warn(e, name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
                               " skipped");
@@ -896,6 +1015,12 @@ private:
 
     Diagnostics diag_;
     Scene& scene_;
+    std::map<std::pair<std::filesystem::path, TextureEncoding>, std::shared_ptr<const TextureData>> textures_;
+    // The object being read: whether a model file's materials apply, and
+    // those read with each kept triangle's index into them.
+    bool wantFileMaterials_ = false;
+    std::vector<MeshFileMaterial> fileMaterials_;
+    std::vector<uint32_t> fileTriangleMaterials_;
 };
 
 // tinyxml2's ErrorStr() is "Error=NAME ErrorID=N (0xN) Line number=L: detail"

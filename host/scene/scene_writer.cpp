@@ -61,6 +61,14 @@ void writeMaterialProperties(XmlOut& x, const Material& m) {
         x.value("checker_size", m.checkerSize);
     }
     if (m.absorption != glm::dvec3(0)) x.colour("absorption", m.absorption);
+    // The texture's path as the scene file wrote it (relative to its folder).
+    // (A model file's own texture has no path to write: the file is written
+    // again as its <file>, without a colour, and brings it back.)
+    if (m.diffuseTexture && !m.diffuseTexture.written.empty()) x.value("diffuse_texture", m.diffuseTexture.written);
+    if (m.normalMap && !m.normalMap.written.empty()) {
+        x.value("normal_map", m.normalMap.written);
+        x.value("normal_strength", m.normalStrength);
+    }
 }
 
 // Vertices relative to `origin`, the <position> written for the object.
@@ -97,6 +105,10 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                  const std::filesystem::path& destination) {
     const Mesh* mesh = std::get_if<Mesh>(&shape);
     const Mesh::FileSource* source = mesh && mesh->source ? &*mesh->source : nullptr;
+    // A model file split by its own materials: written once, by its first
+    // part, without a colour, so that loading applies the file's materials again.
+    if (source && source->part > 0) return;
+    bool fileMaterials = source && source->part == 0;
     x.open("object");
     // Triangles and meshes are written in world space without a position,
     // unless their checker is anchored elsewhere: then at the checker's
@@ -125,7 +137,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                 x.vector("position", s.position - origin);
         },
         shape);
-    if (writeMaterial) {
+    if (writeMaterial && !fileMaterials) {
         x.colour("diffuse_color", m.diffuseColor);
         x.colour("specular_color", m.specularColor);
     }
@@ -144,6 +156,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                 x.vector("axis", s.axis);
             } else if constexpr (std::is_same_v<T, Plane>) {
                 x.vector("normal", s.normal);
+                if (m.textureScale != 1.0) x.value("texture_scale", m.textureScale);
             } else if constexpr (std::is_same_v<T, Triangle>) {
                 writeTriangleVertices(x, s, vertexOrigin);
             } else if constexpr (std::is_same_v<T, Box>) {
@@ -157,9 +170,12 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                 if (source->rotationDegrees != glm::dvec3(0)) x.vector("rotation", source->rotationDegrees);
             } else {
                 x.open("polygons");
-                for (const Triangle& t : s.triangles) {
+                for (size_t i = 0; i < s.triangles.size(); ++i) {
                     x.open("polygon");
-                    writeTriangleVertices(x, t, vertexOrigin);
+                    writeTriangleVertices(x, s.triangles[i], vertexOrigin);
+                    if (!s.uvs.empty())
+                        for (const glm::dvec2& uv : s.uvs[i])
+                            x.line("<uv u=\"" + number(uv.x) + "\" v=\"" + number(uv.y) + "\"/>");
                     x.close("polygon");
                 }
                 x.close("polygons");

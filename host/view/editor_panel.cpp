@@ -178,6 +178,16 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         }
         // Beer-Lambert sigma per unit length (<absorption>): any value >= 0.
         result.changed |= editColour("absorption", m.absorption, true);
+        // Texture controls (README "Textures"): a plane's repeat length, a
+        // normal map's strength.
+        if (std::holds_alternative<Plane>(o.shape) && (m.diffuseTexture || m.normalMap)) {
+            float scale = float(m.textureScale);
+            if (ImGui::DragFloat("texture scale", &scale, 0.01f, 1e-3f, 1e3f)) {
+                m.textureScale = std::max(double(scale), 1e-3);
+                result.changed = true;
+            }
+        }
+        if (m.normalMap) result.changed |= editScalar("normal strength", m.normalStrength, 0, 4);
     } else {
         ImGui::TextDisabled("select a light or an object");
     }
@@ -227,6 +237,18 @@ std::optional<std::string> setObjectField(Scene& scene, int object, const std::s
             return std::nullopt;
         }
     }
+    if (field == "texture_scale") {
+        if (!std::holds_alternative<Plane>(o.shape)) return std::string("texture_scale applies to planes only");
+        if (!(value > 0) || value > 1e6) return std::string("texture_scale must be > 0");
+        m.textureScale = value;
+        return std::nullopt;
+    }
+    if (field == "normal_strength") {
+        if (!m.normalMap) return std::string("normal_strength needs a normal map");
+        if (value < 0 || value > 1e6) return std::string("normal_strength must be >= 0");
+        m.normalStrength = value;
+        return std::nullopt;
+    }
     if (field == "kt") return unit(m.transmission);
     if (field == "kr") return unit(m.reflection);
     if (field == "ks") return unit(m.specular);
@@ -235,7 +257,8 @@ std::optional<std::string> setObjectField(Scene& scene, int object, const std::s
     int axis = field == "x" ? 0 : field == "y" ? 1 : field == "z" ? 2 : -1;
     if (axis < 0)
         return "unknown field '" + field +
-               "' (ior, kt, kr, ks, kd, ka, x, y, z, operation, checker_size, checker_r|g|b, absorption_r|g|b)";
+               "' (ior, kt, kr, ks, kd, ka, x, y, z, operation, checker_size, checker_r|g|b, absorption_r|g|b, "
+               "texture_scale, normal_strength)";
     glm::dvec3 p = shapeReferencePoint(o.shape), target = p;
     target[axis] = value;
     m.checkerOrigin += target - p;

@@ -26,6 +26,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -41,6 +42,19 @@ struct LayerView {
     std::string name;
     gpu::DisplayParams params;
 };
+
+// The image files the scene's materials name (textures and normal maps),
+// resolved as the loader resolves them; hot reload watches them too.
+std::vector<std::filesystem::path> textureFiles(const Scene& scene) {
+    std::set<std::filesystem::path> files;
+    for (const Object& o : scene.objects)
+        for (const TextureRef* t : {&o.material.diffuseTexture, &o.material.normalMap})
+            if (*t && !t->written.empty()) {
+                std::filesystem::path path(t->written);
+                files.insert(path.is_relative() ? scene.sourcePath.parent_path() / path : path);
+            }
+    return {files.begin(), files.end()};
+}
 
 std::vector<LayerView> layerViews(int width, int height, int bounces) {
     glm::uvec4 size(width, height, 0, 0);
@@ -109,6 +123,7 @@ public:
           watcher_(options.sceneOut ? *options.sceneOut : options.scene, std::chrono::milliseconds(250)),
           layers_(layerViews(renderer_.width(), renderer_.height(), options.settings.aovBounces)) {
         window_.setInputSink(this);
+        watchTextures();
         camera_.takeChanged();  // the file's camera, already uploaded
         depthScale_ = float(sceneRadius(scene_));
         overlay_.device = ctx_.deviceInfo().name;
@@ -174,6 +189,7 @@ private:
         restart(why);
     }
     void checkReload();
+    void watchTextures();
     // A failed save (disk full, no permission) is shown, not fatal.
     template <typename F>
     void guarded(F&& f) {
@@ -210,6 +226,7 @@ private:
     CameraController camera_;
     Progressive progressive_;
     FileWatcher watcher_;
+    std::vector<FileWatcher> textureWatchers_;  // the scene's texture files (textureFiles)
     std::vector<LayerView> layers_;
     size_t layer_ = 0;
     float depthScale_ = 1;
@@ -307,10 +324,25 @@ void ViewApp::flyFromKeys(double seconds) {
 
 // A changed file is loaded in full; a refused one leaves the last good scene
 // in place and its FILE:LINE message on screen until a good version arrives.
+void ViewApp::watchTextures() {
+    textureWatchers_.clear();
+    for (const std::filesystem::path& file : textureFiles(scene_))
+        textureWatchers_.emplace_back(file, std::chrono::milliseconds(250));
+}
+
+// A changed texture file reloads the scene file as it is on disk (so the
+// textures are read again) in the same way.
 void ViewApp::checkReload() {
     if (options_.sceneOut) return;  // a quick look: the model file is not a scene to reload
     std::optional<std::string> text = watcher_.poll();
-    if (!text) return;
+    bool textureChanged = false;
+    for (FileWatcher& w : textureWatchers_) textureChanged |= w.poll().has_value();
+    if (!text && !textureChanged) return;
+    if (!text) {
+        std::ifstream in(options_.scene, std::ios::binary);
+        text = std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        log("texture file changed");
+    }
     ++reloadCount_;
     try {
         Scene fresh = loadSceneFromString(*text, options_.scene);
@@ -318,6 +350,7 @@ void ViewApp::checkReload() {
             fresh.camera.eye != scene_.camera.eye || fresh.camera.windowCenter != scene_.camera.windowCenter ||
             fresh.camera.up != scene_.camera.up || fresh.camera.verticalFovDegrees != scene_.camera.verticalFovDegrees;
         scene_ = std::move(fresh);
+        watchTextures();
         if (cameraChanged) camera_.setHome(scene_.camera, sceneRadius(scene_));
         depthScale_ = float(sceneRadius(scene_));
         overlay_.error.clear();

@@ -18,7 +18,7 @@ ComputePipeline createComputePipeline(const VulkanContext& ctx, std::span<const 
     ComputePipeline p;
     std::vector<vk::DescriptorSetLayoutBinding> layoutBindings;
     for (const DescriptorBinding& b : bindings)
-        layoutBindings.push_back({.binding = b.binding, .descriptorType = b.type, .descriptorCount = 1,
+        layoutBindings.push_back({.binding = b.binding, .descriptorType = b.type, .descriptorCount = b.count,
                                   .stageFlags = vk::ShaderStageFlagBits::eCompute});
     p.setLayout = vk::raii::DescriptorSetLayout(
         ctx.device, vk::DescriptorSetLayoutCreateInfo{.bindingCount = uint32_t(layoutBindings.size()),

@@ -16,6 +16,7 @@ struct ComputePipeline {
 struct DescriptorBinding {
     uint32_t binding;
     vk::DescriptorType type;
+    uint32_t count = 1;  // an array of descriptors when > 1
 };
 
 // `bindings` lists the set's bindings (numbers need not be contiguous);

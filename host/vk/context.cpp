@@ -206,6 +206,12 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     float priority = 1.0f;
     vk::DeviceQueueCreateInfo queueInfo{.queueFamilyIndex = queueFamily, .queueCount = 1, .pQueuePriorities = &priority};
     vk::PhysicalDeviceVulkan12Features features12{.bufferDeviceAddress = VK_TRUE};  // scene arrays (shaders/scene.glsl)
+    // The texture array is indexed by a material's slot, which varies across
+    // an invocation group (shaders/texture.glsl, nonuniformEXT).
+    features12.shaderSampledImageArrayNonUniformIndexing =
+        physicalDevice.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceVulkan12Features>()
+            .get<vk::PhysicalDeviceVulkan12Features>()
+            .shaderSampledImageArrayNonUniformIndexing;
     vk::PhysicalDeviceRayQueryFeaturesKHR rayQueryFeatures{.pNext = &features12, .rayQuery = VK_TRUE};
     vk::PhysicalDeviceAccelerationStructureFeaturesKHR accelerationFeatures{.pNext = &rayQueryFeatures,
                                                                             .accelerationStructure = VK_TRUE};

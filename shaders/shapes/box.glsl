@@ -36,4 +36,32 @@ bool intersectBox(vec3 lo, vec3 hi, Ray ray, float tMin, inout float tHit, out v
     return true;
 }
 
+// Each face holds the whole texture, read unmirrored from outside: v up
+// (+y) on the four side faces, u to the right as seen from outside; on the
+// top face u along +x and v along -z, on the bottom face u along +x and v
+// along +z. The face is the one the geometric normal n names.
+SurfaceUv boxUv(vec3 lo, vec3 hi, vec3 n, vec3 p) {
+    vec3 size = hi - lo;
+    vec3 t = (p - lo) / size;  // [0, 1]^3 over the box
+    vec3 an = abs(n);
+    SurfaceUv s;
+    if (an.y >= an.x && an.y >= an.z) {
+        float vz = n.y > 0.0 ? -1.0 : 1.0;
+        s.uv = vec2(t.x, n.y > 0.0 ? 1.0 - t.z : t.z);
+        s.dpdu = vec3(size.x, 0.0, 0.0);
+        s.dpdv = vec3(0.0, 0.0, vz * size.z);
+    } else if (an.x >= an.z) {
+        float uz = n.x > 0.0 ? -1.0 : 1.0;
+        s.uv = vec2(n.x > 0.0 ? 1.0 - t.z : t.z, t.y);
+        s.dpdu = vec3(0.0, 0.0, uz * size.z);
+        s.dpdv = vec3(0.0, size.y, 0.0);
+    } else {
+        float ux = n.z > 0.0 ? 1.0 : -1.0;
+        s.uv = vec2(n.z > 0.0 ? t.x : 1.0 - t.x, t.y);
+        s.dpdu = vec3(ux * size.x, 0.0, 0.0);
+        s.dpdv = vec3(0.0, size.y, 0.0);
+    }
+    return s;
+}
+
 #endif

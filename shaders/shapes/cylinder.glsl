@@ -66,4 +66,34 @@ bool intersectCylinder(vec3 base, vec3 axis, float radius, float height, Ray ray
     return found;
 }
 
+// Side: u the angle about the axis over 2 pi (from planarTangent(axis)
+// towards axis x planarTangent(axis): from +x towards +z for a y axis), v the
+// height over the cylinder's height. Caps (told apart by the geometric
+// normal n): the cap's disc fills the unit square, u along planarTangent
+// and v along axis x planarTangent(axis) on the top cap (for a y axis: u +x,
+// v -z), u mirrored on the bottom one, so both read unmirrored from outside.
+SurfaceUv cylinderUv(vec3 base, vec3 axis, float radius, float height, vec3 n, vec3 p) {
+    const float kPi = 3.14159265358979;
+    vec3 e1 = planarTangent(axis);
+    vec3 e2 = cross(axis, e1);
+    vec3 o = p - base;
+    float h = dot(o, axis);
+    vec3 r = o - h * axis;
+    SurfaceUv s;
+    float capSide = dot(n, axis);
+    if (abs(capSide) > 0.5) {
+        float mirror = capSide > 0.0 ? 1.0 : -1.0;
+        s.uv = vec2(0.5 + mirror * dot(r, e1) / (2.0 * radius), 0.5 + dot(r, e2) / (2.0 * radius));
+        s.dpdu = mirror * 2.0 * radius * e1;
+        s.dpdv = 2.0 * radius * e2;
+        return s;
+    }
+    float angle = atan(dot(r, -e2), dot(r, e1));
+    float u = angle / (2.0 * kPi);
+    s.uv = vec2(u < 0.0 ? u + 1.0 : u, h / height);
+    s.dpdu = 2.0 * kPi * radius * (-sin(angle) * e1 - cos(angle) * e2);
+    s.dpdv = height * axis;
+    return s;
+}
+
 #endif

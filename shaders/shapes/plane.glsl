@@ -13,4 +13,17 @@ bool intersectPlane(vec3 point, vec3 planeNormal, Ray ray, float tMin, inout flo
     return true;
 }
 
+// Planar mapping: u along planarTangent(normal), v along
+// normal x planarTangent(normal) (for a floor facing +y: u along +x, v along
+// -z), from the plane's point, one repeat per `scale` world units.
+SurfaceUv planeUv(vec3 point, vec3 planeNormal, float scale, vec3 p) {
+    vec3 e1 = planarTangent(planeNormal);
+    vec3 e2 = cross(planeNormal, e1);
+    SurfaceUv s;
+    s.uv = vec2(dot(p - point, e1), dot(p - point, e2)) / scale;
+    s.dpdu = scale * e1;
+    s.dpdv = scale * e2;
+    return s;
+}
+
 #endif

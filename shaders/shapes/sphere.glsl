@@ -24,4 +24,21 @@ bool intersectSphere(vec3 center, float radius, Ray ray, float tMin, inout float
     return true;
 }
 
+// Longitude/latitude mapping, POV-Ray's spherical map (map_type 1): u the
+// angle about +y from +x towards +z over 2 pi, v = 1/2 + latitude / pi (0 at
+// the -y pole, 1 at the +y pole). The seam is the half plane z = 0, x > 0.
+SurfaceUv sphereUv(vec3 center, float radius, vec3 p) {
+    vec3 d = (p - center) / radius;
+    const float kPi = 3.14159265358979;
+    float longitude = atan(d.z, d.x);
+    float latitude = asin(clamp(d.y, -1.0, 1.0));
+    float u = longitude / (2.0 * kPi);
+    SurfaceUv s;
+    s.uv = vec2(u < 0.0 ? u + 1.0 : u, 0.5 + latitude / kPi);
+    float c = cos(latitude), sl = sin(latitude);
+    s.dpdu = 2.0 * kPi * radius * c * vec3(-sin(longitude), 0.0, cos(longitude));
+    s.dpdv = kPi * radius * vec3(-sl * cos(longitude), c, -sl * sin(longitude));
+    return s;
+}
+
 #endif

@@ -78,4 +78,31 @@ vec3 shadingNormalTriangle(vec3 v0, vec3 v1, vec3 v2, uvec3 packedNormals, vec3 
     return length2 > 1e-12 ? n * inversesqrt(length2) : normalize(cross(e0, e1));
 }
 
+// The vertices' texture coordinates interpolated at p (barycentric
+// coordinates from p as in shadingNormalTriangle), and dp/du, dp/dv from the
+// triangle's edges in world and texture space (pbrt-v3, 3.6.2). A triangle
+// whose UVs have no area gets an arbitrary frame of unit area.
+SurfaceUv triangleUv(vec3 v0, vec3 v1, vec3 v2, vec2 uv0, vec2 uv1, vec2 uv2, vec3 p) {
+    vec3 e0 = v1 - v0, e1 = v2 - v0, ep = p - v0;
+    float d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1);
+    float d20 = dot(ep, e0), d21 = dot(ep, e1);
+    float denom = d00 * d11 - d01 * d01;
+    float b1 = (d11 * d20 - d01 * d21) / denom;
+    float b2 = (d00 * d21 - d01 * d20) / denom;
+    SurfaceUv s;
+    s.uv = (1.0 - b1 - b2) * uv0 + b1 * uv1 + b2 * uv2;
+    vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
+    vec3 dp02 = v0 - v2, dp12 = v1 - v2;
+    float det = duv02.x * duv12.y - duv02.y * duv12.x;
+    if (abs(det) < 1e-12) {
+        vec3 n = normalize(cross(e0, e1));
+        s.dpdu = planarTangent(n);
+        s.dpdv = cross(n, s.dpdu);
+    } else {
+        s.dpdu = (duv12.y * dp02 - duv02.y * dp12) / det;
+        s.dpdv = (duv02.x * dp12 - duv12.x * dp02) / det;
+    }
+    return s;
+}
+
 #endif

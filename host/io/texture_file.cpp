@@ -1,0 +1,146 @@
+#include "io/texture_file.h"
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <glm/gtc/packing.hpp>
+#include <memory>
+#include <system_error>
+
+namespace whitted {
+namespace {
+
+// The largest texture side accepted (as the image size, README "Scene files").
+constexpr int kMaxTextureSize = 16384;
+
+float srgbToLinear(float c) {
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+bool isLinearColourSpace(const std::string& name) {
+    std::string lower = name;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return std::tolower(c); });
+    return lower == "linear" || lower == "lin_srgb" || lower == "scene_linear";
+}
+
+// The mip chain of linear RGBA float texels: each level the 2x2 box filter
+// of the one above (an odd last row or column is averaged with its
+// neighbour's pair, so every level stays a mean of the file's texels), as
+// half floats.
+std::vector<TextureLevel> buildLevels(int width, int height, std::vector<float> texels) {
+    std::vector<TextureLevel> levels;
+    for (;;) {
+        TextureLevel level{width, height, std::vector<uint16_t>(texels.size())};
+        for (size_t i = 0; i < texels.size(); ++i) level.rgba[i] = glm::packHalf1x16(texels[i]);
+        levels.push_back(std::move(level));
+        if (width == 1 && height == 1) break;
+        int w = std::max(1, width / 2), h = std::max(1, height / 2);
+        std::vector<float> next(size_t(w) * h * 4, 0.0f);
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) {
+                int x0 = std::min(2 * x, width - 1), x1 = std::min(2 * x + 1, width - 1);
+                int y0 = std::min(2 * y, height - 1), y1 = std::min(2 * y + 1, height - 1);
+                for (int c = 0; c < 4; ++c)
+                    next[(size_t(y) * w + x) * 4 + c] =
+                        0.25f * (texels[(size_t(y0) * width + x0) * 4 + c] + texels[(size_t(y0) * width + x1) * 4 + c] +
+                                 texels[(size_t(y1) * width + x0) * 4 + c] + texels[(size_t(y1) * width + x1) * 4 + c]);
+            }
+        texels = std::move(next);
+        width = w;
+        height = h;
+    }
+    return levels;
+}
+
+TextureData readOpened(OIIO::ImageInput& in, TextureEncoding encoding, const std::string& name) {
+    const OIIO::ImageSpec& spec = in.spec();
+    if (spec.width < 1 || spec.height < 1 || spec.width > kMaxTextureSize || spec.height > kMaxTextureSize)
+        throw TextureFileError("is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                               "; a texture must be 1 to 16384 texels on each side");
+    int channels = spec.nchannels;
+    std::vector<float> stored(size_t(spec.width) * spec.height * channels);
+    if (!in.read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, stored.data())) {
+        std::string reason = in.geterror();
+        throw TextureFileError("could not be read: " +
+                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
+    }
+    bool floatFile = spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF ||
+                     spec.format.basetype == OIIO::TypeDesc::DOUBLE;
+    bool decode = encoding == TextureEncoding::Colour && !floatFile &&
+                  !isLinearColourSpace(spec.get_string_attribute("oiio:ColorSpace"));
+
+    // RGBA: grey fills r, g and b; a missing alpha is 1.
+    size_t texels = size_t(spec.width) * spec.height;
+    std::vector<float> rgba(texels * 4);
+    for (size_t i = 0; i < texels; ++i) {
+        const float* s = &stored[i * channels];
+        float r = s[0], g = channels >= 3 ? s[1] : s[0], b = channels >= 3 ? s[2] : s[0];
+        float a = channels == 2 ? s[1] : channels >= 4 ? s[3] : 1.0f;
+        if (decode) {
+            r = srgbToLinear(r);
+            g = srgbToLinear(g);
+            b = srgbToLinear(b);
+        }
+        for (float v : {r, g, b, a})
+            if (!std::isfinite(v)) throw TextureFileError("has a texel that is not a finite number");
+        rgba[i * 4 + 0] = r;
+        rgba[i * 4 + 1] = g;
+        rgba[i * 4 + 2] = b;
+        rgba[i * 4 + 3] = a;
+    }
+    TextureData data;
+    data.name = name;
+    data.srgbDecoded = decode;
+    data.levels = buildLevels(spec.width, spec.height, std::move(rgba));
+    return data;
+}
+
+}  // namespace
+
+TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding encoding) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw TextureFileError("does not exist");
+    if (std::filesystem::is_directory(path, ec)) throw TextureFileError("is a directory, expected an image file");
+    auto in = OIIO::ImageInput::open(path.string());
+    if (!in) {
+        std::string reason = OIIO::geterror();
+        throw TextureFileError("could not be read: " +
+                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
+    }
+    return readOpened(*in, encoding, path.string());
+}
+
+TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::string& hint, TextureEncoding encoding,
+                              const std::string& name) {
+    // The format from the hint, else from the first bytes.
+    std::string format = hint;
+    if (format.empty() && bytes.size() >= 4 && bytes[0] == 0x89 && bytes[1] == 'P' && bytes[2] == 'N') format = "png";
+    if (format.empty() && bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8) format = "jpg";
+    if (format.empty()) throw TextureFileError("is in a format that was not recognised (expected PNG or JPEG)");
+    OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes.data()), bytes.size());
+    auto in = OIIO::ImageInput::create(format);
+    OIIO::ImageSpec spec;
+    if (in && (!in->set_ioproxy(&reader) || !in->open("embedded." + format, spec))) {
+        std::string reason = in->geterror();
+        throw TextureFileError("could not be read: " +
+                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
+    }
+    if (!in) {
+        std::string reason = OIIO::geterror();
+        throw TextureFileError("could not be read: " +
+                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
+    }
+    return readOpened(*in, encoding, name);
+}
+
+TextureData textureFromPixels(int width, int height, std::span<const float> rgba, const std::string& name) {
+    TextureData data;
+    data.name = name;
+    data.levels = buildLevels(width, height, std::vector<float>(rgba.begin(), rgba.end()));
+    return data;
+}
+
+}  // namespace whitted

@@ -1,0 +1,41 @@
+// Image textures (diffuse colour maps, normal maps) read through
+// OpenImageIO: PNG, JPEG, EXR, TIFF, ... decoded on the host to linear
+// RGBA half floats with their whole mip chain, ready for upload
+// (host/render/texture_set.cpp).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scene/texture.h"
+
+namespace whitted {
+
+// A texture file that can not be used. what() ends a sentence about the
+// file ("does not exist", "could not be read: ..."); the scene loader names
+// the file and places it at its element.
+class TextureFileError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+// How a file's values are meant. Colour: 8- and 16-bit integer files are
+// sRGB-encoded (unless the file says it is linear) and are decoded to
+// linear light; float files (EXR, HDR) are linear already. Data (normal
+// maps): the values as stored, never decoded.
+enum class TextureEncoding { Colour, Data };
+
+// Reads a texture file. Throws TextureFileError.
+TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding encoding);
+// The same from an image file held in memory (a model file's embedded
+// texture); `hint` is its format's extension ("png", "jpg") or empty.
+TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::string& hint, TextureEncoding encoding,
+                              const std::string& name);
+// A texture from linear RGBA float texels (rows from the top), mip chain built.
+TextureData textureFromPixels(int width, int height, std::span<const float> rgba, const std::string& name);
+
+}  // namespace whitted

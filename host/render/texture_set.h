@@ -1,0 +1,39 @@
+// The scene's image textures on the device: one sampled image with its mip
+// chain per texture (RGBA16F, linear values: colour textures were decoded
+// from sRGB on the host, io/texture_file.h), one trilinear repeating
+// sampler, and the kMaxTextures descriptors of the kBindingTextures array
+// (unused ones name a 1x1 dummy image, so the whole array is always valid).
+#pragma once
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "scene/texture.h"
+#include "vk/context.h"
+
+namespace whitted {
+
+class TextureSet {
+public:
+    TextureSet() = default;
+    TextureSet(VulkanContext& ctx, std::span<const std::shared_ptr<const TextureData>> textures);
+
+    // gpu::kMaxTextures entries, slot order.
+    std::vector<vk::DescriptorImageInfo> descriptorInfos() const;
+    vk::DeviceSize bytes() const { return bytes_; }
+
+private:
+    struct Image {
+        vk::raii::Image image{nullptr};
+        vk::raii::DeviceMemory memory{nullptr};
+        vk::raii::ImageView view{nullptr};
+    };
+    Image upload(VulkanContext& ctx, const TextureData& texture);
+
+    std::vector<Image> images_;  // images_[0] is the dummy, slot i is images_[i + 1]
+    vk::raii::Sampler sampler_{nullptr};
+    vk::DeviceSize bytes_ = 0;
+};
+
+}  // namespace whitted

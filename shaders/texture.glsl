@@ -1,0 +1,133 @@
+// Image textures (README "Textures"): texture coordinates of any primitive,
+// the filter footprint by ray cones, and the texture lookups.
+//
+// Level of detail by ray cones ("Texture Level of Detail Strategies for
+// Real-Time Ray Tracing", Akenine-Möller, Nilsson, Andersson, Barré-Brisebois,
+// Toth and Karras, Ray Tracing Gems ch. 20, 2019): every ray carries a cone,
+// a width w and a spread angle gamma, starting at the eye with w = 0 and
+// gamma = the angle of one pixel; at a hit at distance t the footprint is
+// w + gamma t wide, and the mip level is
+//     lambda = log2(w) + 1/2 log2(texels per world area) - log2|n . d|,
+// the chapter's Delta_0 + log2|W| - log2|n.d| with Delta_0 written for any
+// mapping through |dp/du x dp/dv| instead of a triangle's area ratio.
+// Reflected and refracted rays continue the cone, widened or narrowed by the
+// surface's curvature (shaders/whitted.comp). Ray cones rather than ray
+// differentials (Igehy 1999): one width and one angle per pending ray in the
+// explicit ray stack (2 floats instead of 12), no per-shape derivative
+// transport, no screen-space differences (so no seams at a mapping's
+// discontinuities, a sphere's longitude wrap included), at the price of an
+// isotropic footprint that over-blurs at grazing angles.
+#ifndef WHITTED_TEXTURE_GLSL
+#define WHITTED_TEXTURE_GLSL
+#extension GL_EXT_nonuniform_qualifier : require
+#include "material.glsl"
+#include "scene.glsl"
+#include "shapes/primitive.glsl"
+
+layout(set = 0, binding = kBindingTextures) uniform sampler2D textures[kMaxTextures];
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer SurfaceAttributesArray {
+    SurfaceAttributes v[];
+};
+#define surfaceAttributes (SurfaceAttributesArray(params.addresses2.zw).v)
+
+// Texture coordinates of primitive `index` at its point p; n is the shape's
+// geometric normal there (as the intersection gave it), which tells a
+// box's faces and a cylinder's caps apart. textureScale: the material's
+// (planes only).
+SurfaceUv surfaceUv(Primitive prim, uint index, vec3 n, vec3 p, float textureScale) {
+    switch (prim.info.x) {
+        case kShapeSphere: return sphereUv(prim.a.xyz, prim.a.w, p);
+        case kShapeCylinder: return cylinderUv(prim.a.xyz, prim.b.xyz, prim.a.w, prim.b.w, n, p);
+        case kShapePlane: return planeUv(prim.a.xyz, prim.b.xyz, textureScale, p);
+        case kShapeBox: return boxUv(prim.a.xyz, prim.b.xyz, n, p);
+    }
+    // A triangle of a textured mesh (the loader refuses textures on others).
+    vec2 uv0 = vec2(0.0), uv1 = vec2(0.0), uv2 = vec2(0.0);
+    if (any(notEqual(params.addresses2.zw, uvec2(0u)))) {
+        SurfaceAttributes at = surfaceAttributes[index];
+        uv0 = at.uv01.xy;
+        uv1 = at.uv01.zw;
+        uv2 = at.uv2.xy;
+    }
+    return triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, uv0, uv1, uv2, p);
+}
+
+// Mip level of texture `slot` for a cone `coneWidth` wide where it meets
+// the surface at cosine `cosine` (see the top of this file).
+float rayConeLod(uint slot, SurfaceUv s, float coneWidth, float cosine) {
+    if ((params.options.z & kOptionTextureLodZero) != 0u) return 0.0;
+    vec2 size = vec2(textureSize(textures[nonuniformEXT(slot)], 0));
+    float worldArea = max(length(cross(s.dpdu, s.dpdv)), 1e-30);  // of one unit square of texture
+    return log2(max(abs(coneWidth), 1e-30)) + 0.5 * log2(size.x * size.y / worldArea) - log2(max(cosine, 1e-6));
+}
+
+// The texture's linear RGB at uv (v up: the image's first row is v = 1).
+vec3 textureColor(uint slot, vec2 uv, float lod) {
+    return textureLod(textures[nonuniformEXT(slot)], vec2(uv.x, 1.0 - uv.y), lod).rgb;
+}
+
+// The colour Cd a shadow ray's crossing of primitive i (material k) at p,
+// geometric normal n, filters by (POV-Ray's filter): the pigment times the
+// diffuse texture, at mip level 0 (a shadow ray carries no cone).
+vec3 crossingColour(uint i, uint k, vec3 p, vec3 n) {
+    vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz, p);
+    uint slot = materials[k].textureSlots.x;
+    if (slot != kNoTexture)
+        cd *= textureColor(slot, surfaceUv(primitives[i], i, n, p, materials[k].textureParams.x).uv, 0.0);
+    return cd;
+}
+
+// Normal mapping: the map's texel m = 2 rgb - 1 is a normal in tangent
+// space, OpenGL's convention (x along +u, y along +v: green up, z along the
+// surface normal), its x and y scaled by `strength`. The tangent frame is the
+// mapping's: T = dp/du made perpendicular to the shading normal ns
+// (Gram-Schmidt), B = ns x T turned to dp/dv's side, N = ns. For a mesh this
+// is MikkTSpace's per-triangle tangent (dp/du from the triangle's UVs,
+// orthogonalised against the interpolated normal, the bitangent's sign from
+// the UV winding); vertex tangents averaged over neighbouring triangles are
+// not used. ns faces the viewer, so a map reads the same from either side.
+vec3 normalMapped(uint slot, float strength, SurfaceUv s, vec3 ns, float lod) {
+    vec3 m = textureLod(textures[nonuniformEXT(slot)], vec2(s.uv.x, 1.0 - s.uv.y), lod).rgb * 2.0 - 1.0;
+    m.xy *= strength;
+    vec3 t = s.dpdu - dot(s.dpdu, ns) * ns;
+    if (dot(t, t) < 1e-20) return ns;
+    t = normalize(t);
+    vec3 b = cross(ns, t);
+    if (dot(b, s.dpdv) < 0.0) b = -b;
+    vec3 mapped = m.x * t + m.y * b + m.z * ns;
+    float length2 = dot(mapped, mapped);
+    return length2 > 1e-20 ? mapped * inversesqrt(length2) : ns;
+}
+
+// Signed curvature of primitive `prim` where its geometric normal is n,
+// positive where the surface is convex towards n (the outside of spheres
+// and cylinders): 1/r on spheres and cylinder sides, 0 on flat shapes, and
+// on smooth mesh triangles the mean over the edges of
+// (n_j - n_i) . (p_j - p_i) / |p_j - p_i|^2 with the vertex normals turned to
+// the winding's side (1/r exactly on a sphere's tessellation).
+float surfaceCurvature(Primitive prim, vec3 n) {
+    switch (prim.info.x) {
+        case kShapeSphere: return 1.0 / prim.a.w;
+        case kShapeCylinder: return abs(dot(n, prim.b.xyz)) > 0.5 ? 0.0 : 1.0 / prim.a.w;
+        case kShapeTriangle: {
+            if (prim.info.z != kTriangleSmooth) return 0.0;
+            vec3 p[3] = vec3[3](prim.a.xyz, prim.b.xyz, prim.c.xyz);
+            vec3 v[3] = vec3[3](decodeOctahedral(floatBitsToUint(prim.a.w)),
+                                decodeOctahedral(floatBitsToUint(prim.b.w)),
+                                decodeOctahedral(floatBitsToUint(prim.c.w)));
+            vec3 ng = cross(p[1] - p[0], p[2] - p[0]);
+            float k = 0.0;
+            for (int i = 0; i < 3; ++i) {
+                int j = i == 2 ? 0 : i + 1;
+                vec3 ni = dot(v[i], ng) < 0.0 ? -v[i] : v[i];
+                vec3 nj = dot(v[j], ng) < 0.0 ? -v[j] : v[j];
+                vec3 e = p[j] - p[i];
+                k += dot(nj - ni, e) / dot(e, e);
+            }
+            return (dot(n, ng) < 0.0 ? -k : k) / 3.0;
+        }
+    }
+    return 0.0;
+}
+
+#endif
