@@ -55,14 +55,21 @@ TEST(QuickLook, ModelIsInFrame) {
         SCOPED_TRACE(model.string());
         ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
         Scene scene = quickLookScene(model);
-        ASSERT_EQ(scene.objects.size(), 2u);
-        ASSERT_TRUE(std::holds_alternative<Mesh>(scene.objects[0].shape));
-        ASSERT_TRUE(std::holds_alternative<Plane>(scene.objects[1].shape));
+        // The model (one object per material of a file with its own
+        // materials, README "Model files"), then the floor.
+        ASSERT_GE(scene.objects.size(), 2u);
+        for (size_t i = 0; i + 1 < scene.objects.size(); ++i)
+            ASSERT_TRUE(std::holds_alternative<Mesh>(scene.objects[i].shape));
+        ASSERT_TRUE(std::holds_alternative<Plane>(scene.objects.back().shape));
         EXPECT_EQ(scene.lights.size(), 2u);
-        if (model.extension() != ".glb") EXPECT_TRUE(scene.warnings.empty());  // the engine has degenerate triangles
-        // No colour of its own: the material an XML mesh without <diffuse_color> gets.
-        EXPECT_EQ(scene.objects[0].material.diffuseColor, Material{}.diffuseColor);
-        EXPECT_EQ(scene.objects[0].material.specularColor, Material{}.specularColor);
+        if (model.extension() != ".glb") {
+            EXPECT_TRUE(scene.warnings.empty());  // the engine has degenerate triangles
+            // No colour of its own and none in the file: the material an XML
+            // mesh without <diffuse_color> gets.
+            ASSERT_EQ(scene.objects.size(), 2u);
+            EXPECT_EQ(scene.objects[0].material.diffuseColor, Material{}.diffuseColor);
+            EXPECT_EQ(scene.objects[0].material.specularColor, Material{}.specularColor);
+        }
         scene.objects.pop_back();
         RenderResult r = renderScene(scene, {.width = 160, .height = 120, .samplesPerPixel = 1, .maxDepth = 2,
                                              .auxiliary = true});
@@ -115,6 +122,30 @@ TEST(QuickLook, WrittenSceneRendersTheSameImage) {
         for (size_t i = 0; i < c.layers[l].size(); ++i)  // moved: vertices re-placed from the file, within rounding
             ASSERT_NEAR(c.layers[l][i], d.layers[l][i], 1e-3f) << "layer " << l << " value " << i;
     }
+}
+
+// A model with materials of its own (BoxTextured.glb: a base-colour texture)
+// is split into one object per material in memory; the written scene names
+// the file once, without a colour, so loading it brings the file's
+// materials back: the same objects and the same image.
+TEST(QuickLook, WrittenSceneKeepsTheModelsMaterials) {
+    fs::path dir = scratchDir("materials");
+    const fs::path model = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
+    fs::copy_file(model, dir / "box.glb");
+    Scene scene = quickLookScene(dir / "box.glb");
+    ASSERT_TRUE(scene.objects[0].material.diffuseTexture) << "the file's texture is not used";
+    writeSceneFile(scene, dir / "box.glb.whitted.xml");
+    std::string text = readText(dir / "box.glb.whitted.xml");
+    size_t file = text.find("<file>box.glb</file>");
+    ASSERT_NE(file, std::string::npos) << text;
+    EXPECT_EQ(text.find("<file>", file + 1), std::string::npos) << "the model is written more than once";
+    Scene loaded = loadScene(dir / "box.glb.whitted.xml");
+    ASSERT_EQ(loaded.objects.size(), scene.objects.size());
+    EXPECT_TRUE(loaded.objects[0].material.diffuseTexture);
+    RenderSettings s{.width = 80, .height = 60, .samplesPerPixel = 1, .maxDepth = 2};
+    RenderResult a = renderScene(scene, s), b = renderScene(loaded, s);
+    EXPECT_TRUE(a.layers[gpu::kAovColor] == b.layers[gpu::kAovColor]);
 }
 
 // The command line: a model renders (into -o or a history folder whose

@@ -46,15 +46,17 @@ Scene quickLookScene(const std::filesystem::path& model) {
         if (at != std::string::npos) w = model.string() + w.substr(at);
     }
 
-    // Bounds: the box of the vertices, and the sphere about its centre.
-    const Mesh& mesh = std::get<Mesh>(scene.objects.front().shape);
+    // Bounds: the box of the vertices, and the sphere about its centre. A
+    // file with materials of its own is one mesh object per material.
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(std::numeric_limits<double>::lowest());
-    for (const Triangle& t : mesh.triangles)
-        for (const glm::dvec3& v : {t.v0, t.v1, t.v2}) lo = glm::min(lo, v), hi = glm::max(hi, v);
+    for (const Object& o : scene.objects)
+        for (const Triangle& t : std::get<Mesh>(o.shape).triangles)
+            for (const glm::dvec3& v : {t.v0, t.v1, t.v2}) lo = glm::min(lo, v), hi = glm::max(hi, v);
     glm::dvec3 centre = 0.5 * (lo + hi);
     double radius = 0;
-    for (const Triangle& t : mesh.triangles)
-        for (const glm::dvec3& v : {t.v0, t.v1, t.v2}) radius = std::max(radius, glm::length(v - centre));
+    for (const Object& o : scene.objects)
+        for (const Triangle& t : std::get<Mesh>(o.shape).triangles)
+            for (const glm::dvec3& v : {t.v0, t.v1, t.v2}) radius = std::max(radius, glm::length(v - centre));
     radius = std::max(radius, 1e-6);
 
     // Camera: y up (glTF's convention, and most OBJ files'), looking at the
