@@ -521,6 +521,36 @@ TEST(ViewTexture, TextureFileHotReloadsAndScaleEdits) {
     EXPECT_LE(maxLevels(after, read("reloaded.png")), 1.0);
 }
 
+// Khronos' ClearCoatTest (assimp-testmodels) has normal textures: with no
+// colour of the scene's own, the parts of the model whose material has one
+// get it as their normal map, read as linear data (not sRGB-decoded).
+TEST(ModelMaterials, GltfNormalTextureBecomesTheNormalMap) {
+    const fs::path model = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/ClearCoatTest.gltf";
+    ASSERT_TRUE(fs::exists(model)) << model << " is missing: install assimp-testmodels (tools/install_deps.sh)";
+    MeshFileData data = readMeshFile(model, MeshFileMaterials::Read);
+    int withNormals = 0;
+    for (const MeshFileMaterial& m : data.materials)
+        if (m.normalTexture) {
+            ++withNormals;
+            EXPECT_FALSE(m.normalTexture->srgbDecoded);
+        }
+    EXPECT_GT(withNormals, 0);
+    Scene scene = loadSceneFromString(R"(<scene>
+  <camera><position x="0" y="0" z="10"/><window_position x="0" y="0" z="9"/></camera>
+  <lights/>
+  <objects><object><properties><type>mesh</type><file>)" + model.string() +
+                                          R"(</file></properties></object></objects>
+</scene>)",
+                                      "clearcoat.xml");
+    int mapped = 0;
+    for (const Object& o : scene.objects) mapped += o.material.normalMap ? 1 : 0;
+    EXPECT_GT(mapped, 0);
+    EXPECT_GT(scene.objects.size(), 1u) << "one object per material of the file";
+    // Rendered under validation, normal maps and all.
+    RenderResult r = renderScene(scene, {.width = 32, .height = 24, .samplesPerPixel = 1, .maxDepth = 1});
+    EXPECT_EQ(r.width, 32);
+}
+
 // ---- Bad input ------------------------------------------------------------
 // (Missing files, directories, <texture_scale> off a plane, meshes without
 // UVs and miscounted <uv> are in the tests/bad_scenes/ catalogue, run

@@ -37,10 +37,11 @@ struct TextureData;
 // A material of the file, as far as whitted uses it: the base colour
 // (glTF baseColorFactor, OBJ/MTL Kd; white without one) and the base-colour
 // texture (glTF baseColorTexture, OBJ/MTL map_Kd; a file beside the model
-// or embedded in it), which multiplies it.
+// or embedded in it), which multiplies it; and the normal texture.
 struct MeshFileMaterial {
     glm::dvec3 baseColour{1, 1, 1};
     std::shared_ptr<const TextureData> baseColourTexture;
+    std::shared_ptr<const TextureData> normalTexture;  // glTF normalTexture, MTL norm/bump: linear data
 };
 
 struct MeshFileData {

@@ -605,6 +605,8 @@ private:
             if (piece.triangles.empty()) continue;
             if (fileMaterials_[k].baseColourTexture && !piece.uvs.empty())
                 part.material.diffuseTexture = {"", fileMaterials_[k].baseColourTexture};
+            if (fileMaterials_[k].normalTexture && !piece.uvs.empty() && !part.material.normalMap)
+                part.material.normalMap = {"", fileMaterials_[k].normalTexture};
             part.shape = std::move(piece);
             parts.push_back(std::move(part));
         }
