@@ -83,7 +83,7 @@ std::shared_ptr<const TextureData> materialTexture(const aiScene& scene, const a
 
 }  // namespace
 
-MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials withMaterials) {
+MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials withMaterials, bool withTangents) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw MeshFileError("does not exist");
     if (std::filesystem::is_directory(path, ec)) throw MeshFileError("is a directory, expected a model file");
@@ -100,7 +100,9 @@ MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials w
     // check the result (Assimp's validation step); points and lines are
     // skipped below. Normals are not generated: a file without them is
     // shaded flat.
-    const unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure;
+    // Tangents (for normal maps) only when asked: they cost load time.
+    const unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure |
+                           (withTangents ? aiProcess_CalcTangentSpace : 0u);
     const aiScene* scene = importer.ReadFile(path.string(), flags);
     if (!scene) {
         std::string reason = importer.GetErrorString();
@@ -123,13 +125,15 @@ MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials w
                 material.Get(AI_MATKEY_COLOR_DIFFUSE, colour) == AI_SUCCESS)
                 if (std::isfinite(colour.r) && std::isfinite(colour.g) && std::isfinite(colour.b))
                     read.baseColour = glm::clamp(glm::dvec3(colour.r, colour.g, colour.b), 0.0, 1.0);
-            read.baseColourTexture = materialTexture(*scene, material, {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE},
-                                                     TextureEncoding::Colour, path);
-            read.normalTexture = materialTexture(*scene, material, {aiTextureType_NORMALS}, TextureEncoding::Data, path);
+            read.baseColourTexture = materialTexture(
+                *scene, material, {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}, TextureEncoding::Colour, path);
+            read.normalTexture =
+                materialTexture(*scene, material, {aiTextureType_NORMALS}, TextureEncoding::Data, path);
             data.materials.push_back(std::move(read));
         }
-    bool anyNormals = false, anyUvs = false;
+    bool anyNormals = false, anyUvs = false, anyTangents = false;
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        if (withTangents && scene->mMeshes[m]->HasTangentsAndBitangents()) anyTangents = true;
         if (scene->mMeshes[m]->HasNormals()) anyNormals = true;
         if (scene->mMeshes[m]->HasTextureCoords(0)) anyUvs = true;
     }
@@ -159,6 +163,13 @@ MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials w
                         uv[k] = std::isfinite(t.x) && std::isfinite(t.y) ? glm::dvec2(t.x, t.y) : glm::dvec2(0.0);
                     }
                 data.uvs.push_back(uv);
+            }
+            if (anyTangents) {
+                std::array<glm::dvec3, 3> tangent{};
+                bool usable = mesh->HasTangentsAndBitangents();
+                for (int k = 0; k < 3 && usable; ++k)
+                    usable = unitNormal(mesh->mTangents[face.mIndices[k]], tangent[k]);
+                data.tangents.push_back(usable ? tangent : std::array<glm::dvec3, 3>{});
             }
             if (!anyNormals) continue;
             // The geometric normal stands in for missing or unusable ones.

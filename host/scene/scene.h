@@ -107,10 +107,14 @@ struct Box {
 // space, for smooth shading; their side may differ from the winding's.
 // uvs is empty, or holds the texture coordinates of each triangle's
 // vertices (v up, (0, 0) the image's bottom-left corner).
+// tangents is empty, or holds each triangle's unit vertex tangents (world
+// space, along +u; zero vectors where the file's were unusable), from a
+// model file, for normal maps.
 struct Mesh {
     std::vector<Triangle> triangles;
     std::vector<std::array<glm::dvec3, 3>> normals;
     std::vector<std::array<glm::dvec2, 3>> uvs;
+    std::vector<std::array<glm::dvec3, 3>> tangents;
 };
 
 using Shape = std::variant<Sphere, Cylinder, Plane, Triangle, Box, Mesh>;
