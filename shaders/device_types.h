@@ -156,9 +156,13 @@ struct Material {
 // primitives' order; present when some mesh triangle needs them (a textured
 // mesh). Triangles: the (u, v) of its three vertices. Other shapes compute
 // their (u, v) from the hit point (shaders/shapes/*.glsl) and ignore theirs.
+// Mesh triangles from a model file with tangents: tangents.xyz the
+// three vertex tangents (octahedral, as vertex normals), tangents.w 1; else
+// tangents.w 0 and normal maps use dp/du (shaders/texture.glsl).
 struct SurfaceAttributes {
-    vec4 uv01;  // u0, v0, u1, v1
-    vec4 uv2;   // u2, v2, 0, 0
+    vec4 uv01;      // u0, v0, u1, v1
+    vec4 uv2;       // u2, v2, 0, 0
+    uvec4 tangents;
 };
 
 struct Light {

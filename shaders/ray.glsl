@@ -24,6 +24,7 @@ struct SurfaceUv {
     vec2 uv;
     vec3 dpdu;
     vec3 dpdv;
+    vec3 tangent;  // a mesh's interpolated vertex tangent, or zero (then dpdu is the tangent)
 };
 
 // A unit vector perpendicular to unit n, the same for the same n: the

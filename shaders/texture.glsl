@@ -42,14 +42,13 @@ SurfaceUv surfaceUv(Primitive prim, uint index, vec3 n, vec3 p, float textureSca
         case kShapeBox: return boxUv(prim.a.xyz, prim.b.xyz, n, p);
     }
     // A triangle of a textured mesh (the loader refuses textures on others).
-    vec2 uv0 = vec2(0.0), uv1 = vec2(0.0), uv2 = vec2(0.0);
-    if (any(notEqual(params.addresses2.zw, uvec2(0u)))) {
-        SurfaceAttributes at = surfaceAttributes[index];
-        uv0 = at.uv01.xy;
-        uv1 = at.uv01.zw;
-        uv2 = at.uv2.xy;
-    }
-    return triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, uv0, uv1, uv2, p);
+    if (all(equal(params.addresses2.zw, uvec2(0u))))
+        return triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, vec2(0.0), vec2(0.0), vec2(0.0), p);
+    SurfaceAttributes at = surfaceAttributes[index];
+    SurfaceUv s = triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, at.uv01.xy, at.uv01.zw, at.uv2.xy, p);
+    // A model file's vertex tangents, interpolated as vertex normals are.
+    if (at.tangents.w != 0u) s.tangent = shadingNormalTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, at.tangents.xyz, p);
+    return s;
 }
 
 // Mip level of texture `slot` for a cone `coneWidth` wide where it meets
@@ -81,15 +80,17 @@ vec3 crossingColour(uint i, uint k, vec3 p, vec3 n) {
 // space, OpenGL's convention (x along +u, y along +v: green up, z along the
 // surface normal), its x and y scaled by `strength`. The tangent frame is the
 // mapping's: T = dp/du made perpendicular to the shading normal ns
-// (Gram-Schmidt), B = ns x T turned to dp/dv's side, N = ns. For a mesh this
-// is MikkTSpace's per-triangle tangent (dp/du from the triangle's UVs,
-// orthogonalised against the interpolated normal, the bitangent's sign from
-// the UV winding); vertex tangents averaged over neighbouring triangles are
-// not used. ns faces the viewer, so a map reads the same from either side.
+// (Gram-Schmidt), B = ns x T turned to dp/dv's side, N = ns. A model file's
+// mesh uses its vertex tangents instead of dp/du (Assimp's
+// aiProcess_CalcTangentSpace, interpolated across the triangle, as
+// MikkTSpace's per-vertex tangents are), orthogonalised the same way; inline
+// polygons use their triangle's dp/du. ns faces the viewer, so a map reads
+// the same from either side.
 vec3 normalMapped(uint slot, float strength, SurfaceUv s, vec3 ns, float lod) {
     vec3 m = textureLod(textures[nonuniformEXT(slot)], vec2(s.uv.x, 1.0 - s.uv.y), lod).rgb * 2.0 - 1.0;
     m.xy *= strength;
-    vec3 t = s.dpdu - dot(s.dpdu, ns) * ns;
+    vec3 along = dot(s.tangent, s.tangent) > 0.0 ? s.tangent : s.dpdu;
+    vec3 t = along - dot(along, ns) * ns;
     if (dot(t, t) < 1e-20) return ns;
     t = normalize(t);
     vec3 b = cross(ns, t);

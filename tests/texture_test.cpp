@@ -389,6 +389,50 @@ TEST(NormalMap, ConstantTiltEqualsAnalyticPhong) {
     }
 }
 
+// A model file's vertex tangents (Assimp's aiProcess_CalcTangentSpace):
+// an OBJ square facing +z with normals and UVs (u along +x, v along +y),
+// rotated 90 degrees about z by <rotation> (so u runs along +y and v along
+// -x in the world), under a constant map tilted towards +u: the centre pixel
+// shows the analytic Phong shading with the normal tilted towards world +y.
+// On a flat square the vertex tangents and dp/du agree, so this checks that
+// the tangents are read, placed with the mesh and give the right frame, not
+// that they differ from dp/du where a surface curves.
+TEST(NormalMap, ModelFileTangentsCarryTheTilt) {
+    fs::path dir = textureDir();
+    std::ofstream(dir / "square.obj") << "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+                                         "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
+                                         "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n";
+    MeshFileData data = readMeshFile(dir / "square.obj", MeshFileMaterials::Ignore, true);
+    ASSERT_EQ(data.tangents.size(), 2u);
+    for (const auto& t : data.tangents)
+        for (const glm::dvec3& v : t) EXPECT_NEAR(glm::distance(v, glm::dvec3(1, 0, 0)), 0.0, 1e-6);
+
+    const double tilt = glm::radians(25.0);
+    writeConstantNormalMap(dir / "tilt_u.exr", {std::sin(tilt), 0, std::cos(tilt)});
+    const std::string xml = R"(<scene>
+  <camera><position x="0" y="0" z="3"/><window_position x="0" y="0" z="2"/><fov>20</fov>
+    <width>33</width><height>33</height></camera>
+  <ambient_light r="1" g="1" b="1"/>
+  <lights><light><position x="2" y="1.5" z="4"/><color r="1" g="1" b="1"/></light></lights>
+  <objects>
+    <object><diffuse_color r="1" g="1" b="1"/><properties><type>mesh</type><file>square.obj</file>
+      <rotation x="0" y="0" z="90"/><normal_map>tilt_u.exr</normal_map>
+      <ambiente_coef>0.1</ambiente_coef><diffuse_coef>0.6</diffuse_coef><specular_coef>0.3</specular_coef>
+      <shininess>5</shininess></properties></object>
+  </objects>
+</scene>)";
+    Scene scene = loadSceneFromString(xml, dir / "square.xml");
+    ASSERT_EQ(std::get<Mesh>(scene.objects[0].shape).tangents.size(), 2u);
+    RenderResult r = renderScene(scene, {.samplesPerPixel = 1, .maxDepth = 0, .auxiliary = true});
+    glm::dvec3 n(0, std::sin(tilt), std::cos(tilt));  // +u is world +y after the rotation
+    glm::dvec3 l = glm::normalize(glm::dvec3(2, 1.5, 4)), v(0, 0, 1);
+    glm::dvec3 reflected = 2.0 * glm::dot(n, l) * n - l;
+    double expected =
+        0.1 + 0.6 * std::max(glm::dot(n, l), 0.0) + 0.3 * std::pow(std::max(glm::dot(reflected, v), 0.0), 5.0);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(pixel(r, gpu::kAovColor, 16, 16)[k], expected, 2e-3);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(pixel(r, gpu::kAovNormal, 16, 16)[k], n[k], 1e-3);
+}
+
 // ---- Materials from model files ------------------------------------------
 
 // Khronos' BoxTextured sample in Debian's assimp-testmodels package (see
@@ -519,6 +563,36 @@ TEST(ViewTexture, TextureFileHotReloadsAndScaleEdits) {
                                                             "<texture_scale>1</texture_scale>");
     render("scale1.xml", "reloaded.png");
     EXPECT_LE(maxLevels(after, read("reloaded.png")), 1.0);
+}
+
+// Khronos' ClearCoatTest (assimp-testmodels) has normal textures: with no
+// colour of the scene's own, the parts of the model whose material has one
+// get it as their normal map, read as linear data (not sRGB-decoded).
+TEST(ModelMaterials, GltfNormalTextureBecomesTheNormalMap) {
+    const fs::path model = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/ClearCoatTest.gltf";
+    ASSERT_TRUE(fs::exists(model)) << model << " is missing: install assimp-testmodels (tools/install_deps.sh)";
+    MeshFileData data = readMeshFile(model, MeshFileMaterials::Read);
+    int withNormals = 0;
+    for (const MeshFileMaterial& m : data.materials)
+        if (m.normalTexture) {
+            ++withNormals;
+            EXPECT_FALSE(m.normalTexture->srgbDecoded);
+        }
+    EXPECT_GT(withNormals, 0);
+    Scene scene = loadSceneFromString(R"(<scene>
+  <camera><position x="0" y="0" z="10"/><window_position x="0" y="0" z="9"/></camera>
+  <lights/>
+  <objects><object><properties><type>mesh</type><file>)" + model.string() +
+                                          R"(</file></properties></object></objects>
+</scene>)",
+                                      "clearcoat.xml");
+    int mapped = 0;
+    for (const Object& o : scene.objects) mapped += o.material.normalMap ? 1 : 0;
+    EXPECT_GT(mapped, 0);
+    EXPECT_GT(scene.objects.size(), 1u) << "one object per material of the file";
+    // Rendered under validation, normal maps and all.
+    RenderResult r = renderScene(scene, {.width = 32, .height = 24, .samplesPerPixel = 1, .maxDepth = 1});
+    EXPECT_EQ(r.width, 32);
 }
 
 // ---- Bad input ------------------------------------------------------------

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
 #include <span>
 #include <system_error>
 
@@ -34,14 +35,17 @@ bool unitNormal(const aiVector3D& n, glm::dvec3& out) {
     return true;
 }
 
-// The base-colour texture of a material: embedded in the file ("*N", or
-// the name of an embedded texture) or a file relative to the model's folder.
-std::shared_ptr<const TextureData> baseColourTexture(const aiScene& scene, const aiMaterial& material,
-                                                     const std::filesystem::path& modelPath) {
+// The first texture of a material of one of `types`: embedded in the file
+// ("*N", or the name of an embedded texture) or a file relative to the
+// model's folder.
+std::shared_ptr<const TextureData> materialTexture(const aiScene& scene, const aiMaterial& material,
+                                                   std::initializer_list<aiTextureType> types, TextureEncoding encoding,
+                                                   const std::filesystem::path& modelPath) {
     aiString name;
-    if (material.GetTexture(aiTextureType_BASE_COLOR, 0, &name) != AI_SUCCESS &&
-        material.GetTexture(aiTextureType_DIFFUSE, 0, &name) != AI_SUCCESS)
-        return nullptr;
+    bool found = false;
+    for (aiTextureType type : types)
+        if (!found && material.GetTexture(type, 0, &name) == AI_SUCCESS) found = true;
+    if (!found) return nullptr;
     std::string written = name.C_Str();
     try {
         if (const aiTexture* embedded = scene.GetEmbeddedTexture(name.C_Str())) {
@@ -49,13 +53,14 @@ std::shared_ptr<const TextureData> baseColourTexture(const aiScene& scene, const
             if (embedded->mHeight == 0) {  // compressed: mWidth bytes of a PNG, JPEG, ... file
                 auto bytes = std::span(reinterpret_cast<const unsigned char*>(embedded->pcData), embedded->mWidth);
                 return std::make_shared<const TextureData>(
-                    readTextureMemory(bytes, embedded->achFormatHint, TextureEncoding::Colour, label));
+                    readTextureMemory(bytes, embedded->achFormatHint, encoding, label));
             }
             // Raw 8-bit BGRA texels (sRGB, as a PNG's), rows from the top.
             size_t count = size_t(embedded->mWidth) * embedded->mHeight;
             std::vector<float> rgba(count * 4);
-            auto decode = [](unsigned char c) {
+            auto decode = [&](unsigned char c) {
                 float v = float(c) / 255.0f;
+                if (encoding == TextureEncoding::Data) return v;
                 return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
             };
             for (size_t i = 0; i < count; ++i) {
@@ -70,7 +75,7 @@ std::shared_ptr<const TextureData> baseColourTexture(const aiScene& scene, const
         }
         std::filesystem::path file(written);
         if (file.is_relative()) file = modelPath.parent_path() / file;
-        return std::make_shared<const TextureData>(readTextureFile(file, TextureEncoding::Colour));
+        return std::make_shared<const TextureData>(readTextureFile(file, encoding));
     } catch (const TextureFileError& error) {
         throw MeshFileError("has a texture \"" + written + "\" that " + error.what());
     }
@@ -78,7 +83,7 @@ std::shared_ptr<const TextureData> baseColourTexture(const aiScene& scene, const
 
 }  // namespace
 
-MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials withMaterials) {
+MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials withMaterials, bool withTangents) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw MeshFileError("does not exist");
     if (std::filesystem::is_directory(path, ec)) throw MeshFileError("is a directory, expected a model file");
@@ -95,7 +100,9 @@ MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials w
     // check the result (Assimp's validation step); points and lines are
     // skipped below. Normals are not generated: a file without them is
     // shaded flat.
-    const unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure;
+    // Tangents (for normal maps) only when asked: they cost load time.
+    const unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_ValidateDataStructure |
+                           (withTangents ? aiProcess_CalcTangentSpace : 0u);
     const aiScene* scene = importer.ReadFile(path.string(), flags);
     if (!scene) {
         std::string reason = importer.GetErrorString();
@@ -118,11 +125,15 @@ MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials w
                 material.Get(AI_MATKEY_COLOR_DIFFUSE, colour) == AI_SUCCESS)
                 if (std::isfinite(colour.r) && std::isfinite(colour.g) && std::isfinite(colour.b))
                     read.baseColour = glm::clamp(glm::dvec3(colour.r, colour.g, colour.b), 0.0, 1.0);
-            read.baseColourTexture = baseColourTexture(*scene, material, path);
+            read.baseColourTexture = materialTexture(
+                *scene, material, {aiTextureType_BASE_COLOR, aiTextureType_DIFFUSE}, TextureEncoding::Colour, path);
+            read.normalTexture =
+                materialTexture(*scene, material, {aiTextureType_NORMALS}, TextureEncoding::Data, path);
             data.materials.push_back(std::move(read));
         }
-    bool anyNormals = false, anyUvs = false;
+    bool anyNormals = false, anyUvs = false, anyTangents = false;
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+        if (withTangents && scene->mMeshes[m]->HasTangentsAndBitangents()) anyTangents = true;
         if (scene->mMeshes[m]->HasNormals()) anyNormals = true;
         if (scene->mMeshes[m]->HasTextureCoords(0)) anyUvs = true;
     }
@@ -152,6 +163,13 @@ MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials w
                         uv[k] = std::isfinite(t.x) && std::isfinite(t.y) ? glm::dvec2(t.x, t.y) : glm::dvec2(0.0);
                     }
                 data.uvs.push_back(uv);
+            }
+            if (anyTangents) {
+                std::array<glm::dvec3, 3> tangent{};
+                bool usable = mesh->HasTangentsAndBitangents();
+                for (int k = 0; k < 3 && usable; ++k)
+                    usable = unitNormal(mesh->mTangents[face.mIndices[k]], tangent[k]);
+                data.tangents.push_back(usable ? tangent : std::array<glm::dvec3, 3>{});
             }
             if (!anyNormals) continue;
             // The geometric normal stands in for missing or unusable ones.

@@ -37,10 +37,11 @@ struct TextureData;
 // A material of the file, as far as whitted uses it: the base colour
 // (glTF baseColorFactor, OBJ/MTL Kd; white without one) and the base-colour
 // texture (glTF baseColorTexture, OBJ/MTL map_Kd; a file beside the model
-// or embedded in it), which multiplies it.
+// or embedded in it), which multiplies it; and the normal texture.
 struct MeshFileMaterial {
     glm::dvec3 baseColour{1, 1, 1};
     std::shared_ptr<const TextureData> baseColourTexture;
+    std::shared_ptr<const TextureData> normalTexture;  // glTF normalTexture, MTL norm/bump: linear data
 };
 
 struct MeshFileData {
@@ -51,6 +52,11 @@ struct MeshFileData {
     // index into them.
     std::vector<MeshFileMaterial> materials;
     std::vector<uint32_t> triangleMaterials;
+    // With tangents asked for: each triangle's unit vertex tangents
+    // (Assimp's aiProcess_CalcTangentSpace, along +u), or empty when the
+    // file has no normals and UVs to compute them from; a triangle whose
+    // tangents are unusable has zero vectors.
+    std::vector<std::array<glm::dvec3, 3>> tangents;
 };
 
 enum class MeshFileMaterials { Ignore, Read };
@@ -62,6 +68,7 @@ enum class MeshFileMaterials { Ignore, Read };
 // ±1e6 (the scene format's limit).
 // With MeshFileMaterials::Read it also reads the materials and their
 // textures; a texture that cannot be read throws MeshFileError naming it.
-MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials materials = MeshFileMaterials::Ignore);
+MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials materials = MeshFileMaterials::Ignore,
+                          bool withTangents = false);
 
 }  // namespace whitted

@@ -16,7 +16,8 @@ static_assert(sizeof(gpu::Material) == 144 && offsetof(gpu::Material, coefs1) ==
               offsetof(gpu::Material, checker) == 64 && offsetof(gpu::Material, checkerOrigin) == 80 &&
               offsetof(gpu::Material, absorption) == 96 && offsetof(gpu::Material, textureSlots) == 112 &&
               offsetof(gpu::Material, textureParams) == 128);
-static_assert(sizeof(gpu::SurfaceAttributes) == 32 && offsetof(gpu::SurfaceAttributes, uv2) == 16);
+static_assert(sizeof(gpu::SurfaceAttributes) == 48 && offsetof(gpu::SurfaceAttributes, uv2) == 16 &&
+              offsetof(gpu::SurfaceAttributes, tangents) == 32);
 static_assert(sizeof(gpu::Light) == 32);
 static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, accel) == 112 &&
               offsetof(gpu::FrameParams, addresses1) == 144 && offsetof(gpu::FrameParams, addresses2) == 160);
@@ -125,9 +126,18 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
         }
         if (!attributes) continue;
         if (needsAttributes(object)) {
-            for (const auto& uv : std::get<Mesh>(object.shape).uvs)
+            const Mesh& mesh = std::get<Mesh>(object.shape);
+            for (size_t i = 0; i < mesh.uvs.size(); ++i) {
+                const auto& uv = mesh.uvs[i];
+                glm::uvec4 tangents(0);
+                if (!mesh.tangents.empty() && glm::length(mesh.tangents[i][0]) > 0.5 &&
+                    glm::length(mesh.tangents[i][1]) > 0.5 && glm::length(mesh.tangents[i][2]) > 0.5)
+                    tangents = glm::uvec4(encodeOctahedral(mesh.tangents[i][0]), encodeOctahedral(mesh.tangents[i][1]),
+                                          encodeOctahedral(mesh.tangents[i][2]), 1u);
                 g.attributes.push_back({.uv01 = glm::vec4(uv[0].x, uv[0].y, uv[1].x, uv[1].y),
-                                        .uv2 = glm::vec4(uv[2].x, uv[2].y, 0.0f, 0.0f)});
+                                        .uv2 = glm::vec4(uv[2].x, uv[2].y, 0.0f, 0.0f),
+                                        .tangents = tangents});
+            }
         } else {
             g.attributes.resize(g.attributes.size() + (primitives.size() - first), gpu::SurfaceAttributes{});
         }

@@ -108,6 +108,9 @@ struct Box {
 // space, for smooth shading; their side may differ from the winding's.
 // uvs is empty, or holds the texture coordinates of each triangle's
 // vertices (v up, (0, 0) the image's bottom-left corner).
+// tangents is empty, or holds each triangle's unit vertex tangents (world
+// space, along +u; zero vectors where the file's were unusable), from a
+// model file, for normal maps.
 struct Mesh {
     std::vector<Triangle> triangles;
     std::vector<std::array<glm::dvec3, 3>> normals;
@@ -126,6 +129,7 @@ struct Mesh {
     };
     std::optional<FileSource> source;
     std::vector<std::array<glm::dvec2, 3>> uvs;
+    std::vector<std::array<glm::dvec3, 3>> tangents;
 };
 
 struct CsgChild;

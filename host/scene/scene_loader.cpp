@@ -636,10 +636,13 @@ private:
                 piece.triangles.push_back(mesh.triangles[i]);
                 if (!mesh.normals.empty()) piece.normals.push_back(mesh.normals[i]);
                 if (!mesh.uvs.empty()) piece.uvs.push_back(mesh.uvs[i]);
+                if (!mesh.tangents.empty()) piece.tangents.push_back(mesh.tangents[i]);
             }
             if (piece.triangles.empty()) continue;
             if (fileMaterials_[k].baseColourTexture && !piece.uvs.empty())
                 part.material.diffuseTexture = {"", fileMaterials_[k].baseColourTexture};
+            if (fileMaterials_[k].normalTexture && !piece.uvs.empty() && !part.material.normalMap)
+                part.material.normalMap = {"", fileMaterials_[k].normalTexture};
             if (mesh.source) {
                 piece.source = mesh.source;
                 piece.source->part = int(parts.size());
@@ -978,8 +981,10 @@ private:
         std::string name = "mesh file \"" + written + "\"";
         MeshFileData data;
         try {
-            data = whitted::readMeshFile(path,
-                                         wantFileMaterials_ ? MeshFileMaterials::Read : MeshFileMaterials::Ignore);
+            // Tangents where a normal map may apply: the scene's or the file's.
+            bool tangents = wantFileMaterials_ || e->Parent()->FirstChildElement("normal_map");
+            data = whitted::readMeshFile(path, wantFileMaterials_ ? MeshFileMaterials::Read : MeshFileMaterials::Ignore,
+                                         tangents);
         } catch (const MeshFileError& error) {
             diag_.fail(e, name + " " + error.what());
         }
@@ -997,6 +1002,14 @@ private:
             }
             mesh.triangles.push_back(t);
             if (!data.uvs.empty()) mesh.uvs.push_back(data.uvs[i]);
+            if (!data.tangents.empty()) {
+                const auto& t = data.tangents[i];
+                auto place = [&](const glm::dvec3& v) {  // directions go through the linear part
+                    glm::dvec3 w = placement.identity ? v : placement.linear * v;
+                    return glm::length(w) > 0 ? glm::normalize(w) : w;
+                };
+                mesh.tangents.push_back({place(t[0]), place(t[1]), place(t[2])});
+            }
             if (!data.triangleMaterials.empty()) fileTriangleMaterials_.push_back(data.triangleMaterials[i]);
             if (!data.normals.empty()) {
                 const auto& n = data.normals[i];

@@ -45,6 +45,7 @@ SurfaceUv boxUv(vec3 lo, vec3 hi, vec3 n, vec3 p) {
     vec3 t = (p - lo) / size;  // [0, 1]^3 over the box
     vec3 an = abs(n);
     SurfaceUv s;
+    s.tangent = vec3(0.0);
     if (an.y >= an.x && an.y >= an.z) {
         float vz = n.y > 0.0 ? -1.0 : 1.0;
         s.uv = vec2(t.x, n.y > 0.0 ? 1.0 - t.z : t.z);

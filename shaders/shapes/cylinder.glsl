@@ -80,6 +80,7 @@ SurfaceUv cylinderUv(vec3 base, vec3 axis, float radius, float height, vec3 n, v
     float h = dot(o, axis);
     vec3 r = o - h * axis;
     SurfaceUv s;
+    s.tangent = vec3(0.0);
     float capSide = dot(n, axis);
     if (abs(capSide) > 0.5) {
         float mirror = capSide > 0.0 ? 1.0 : -1.0;

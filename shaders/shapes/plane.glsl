@@ -20,6 +20,7 @@ SurfaceUv planeUv(vec3 point, vec3 planeNormal, float scale, vec3 p) {
     vec3 e1 = planarTangent(planeNormal);
     vec3 e2 = cross(planeNormal, e1);
     SurfaceUv s;
+    s.tangent = vec3(0.0);
     s.uv = vec2(dot(p - point, e1), dot(p - point, e2)) / scale;
     s.dpdu = scale * e1;
     s.dpdv = scale * e2;

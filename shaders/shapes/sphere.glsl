@@ -34,6 +34,7 @@ SurfaceUv sphereUv(vec3 center, float radius, vec3 p) {
     float latitude = asin(clamp(d.y, -1.0, 1.0));
     float u = longitude / (2.0 * kPi);
     SurfaceUv s;
+    s.tangent = vec3(0.0);
     s.uv = vec2(u < 0.0 ? u + 1.0 : u, 0.5 + latitude / kPi);
     float c = cos(latitude), sl = sin(latitude);
     s.dpdu = 2.0 * kPi * radius * c * vec3(-sin(longitude), 0.0, cos(longitude));

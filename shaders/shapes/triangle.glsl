@@ -90,6 +90,7 @@ SurfaceUv triangleUv(vec3 v0, vec3 v1, vec3 v2, vec2 uv0, vec2 uv1, vec2 uv2, ve
     float b1 = (d11 * d20 - d01 * d21) / denom;
     float b2 = (d00 * d21 - d01 * d20) / denom;
     SurfaceUv s;
+    s.tangent = vec3(0.0);
     s.uv = (1.0 - b1 - b2) * uv0 + b1 * uv1 + b2 * uv2;
     vec2 duv02 = uv0 - uv2, duv12 = uv1 - uv2;
     vec3 dp02 = v0 - v2, dp12 = v1 - v2;
