@@ -142,7 +142,8 @@ TEST_P(DefaultRender, IsCleanAgainstSixtyFourSamples) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, DefaultRender,
                          ::testing::Values("room.xml", "n_objects.xml", "n_diffuse_objects.xml", "nested_spheres.xml",
-                                           "one_mirror.xml", "several_mirrors.xml", "three_diffuse_spheres.xml"),
+                                           "one_mirror.xml", "several_mirrors.xml", "three_diffuse_spheres.xml",
+                                           "showcase.xml"),
                          [](const auto& info) { return info.param.substr(0, info.param.size() - 4); });
 
 // Rendered in bands of a few rows (each with its own adaptive first pass and
