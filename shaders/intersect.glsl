@@ -6,6 +6,10 @@
 // the Efficiency of Ray Traversal on GPUs", HPG 2009): test both children's
 // boxes, descend into the nearer, push the farther; closest-hit rays shrink
 // their interval as hits are found, shadow rays stop at the first opaque hit.
+// Stacked entries keep their entry distance, and a closest-hit ray drops a
+// popped entry that lies behind its nearest hit so far, as Embree's
+// traversal does (Wald et al., "Embree: A Kernel Framework for Efficient CPU
+// Ray Tracing", SIGGRAPH 2014).
 #ifndef WHITTED_INTERSECT_GLSL
 #define WHITTED_INTERSECT_GLSL
 #include "scene.glsl"
@@ -159,11 +163,14 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
 
     vec3 invDir = safeInverse(ray.dir);
     uint stack[kBvhStackSize];
+    float stackT[kBvhStackSize];  // entry distance of each stacked node (closest hit)
     int top = 0;
     uint children = kNoEntry;  // first child of the inner node to expand next
     uint prim = 0u, primEnd = 0u;
-    if (intersectNodeBounds(bvhNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0)
+    if (intersectNodeBounds(bvhNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0) {
+        stackT[top] = 0.0;
         stack[top++] = entryOf(bvhNodes[0], 0u);
+    }
 
     bool running = true;
     while (running) {
@@ -179,6 +186,7 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                 uint leftEntry = entryOf(left, children), rightEntry = entryOf(right, children + 1u);
                 if (tLeft >= 0.0 && tRight >= 0.0) {
                     bool leftFirst = shadow || tLeft <= tRight;
+                    if (!shadow) stackT[top] = leftFirst ? tRight : tLeft;
                     stack[top++] = leftFirst ? rightEntry : leftEntry;
                     entry = leftFirst ? leftEntry : rightEntry;
                 } else if (tLeft >= 0.0) {
@@ -187,10 +195,19 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                     entry = rightEntry;
                 }
             }
-            if (entry == kNoEntry && top > 0) entry = stack[--top];
+            bool culled = false;
+            if (entry == kNoEntry && top > 0) {
+                entry = stack[--top];
+                // Closest hit: a hit found since the push, nearer than the
+                // entry's box, culls it here rather than after a step (an
+                // inner node) or a test of each primitive (a leaf).
+                culled = !shadow && stackT[top] > tLimit;
+            }
             children = kNoEntry;
             if (entry == kNoEntry) {
                 running = false;
+            } else if (culled) {
+                // this step is spent; the next one pops again
             } else if ((entry & kLeafEntry) != 0u) {
                 // Only the two words needed: a whole node would be a
                 // gather of eight per lane.
