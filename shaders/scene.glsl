@@ -33,6 +33,9 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Pr
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MaterialArray { Material v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer LightArray { Light v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhNodeArray { BvhNode v[]; };
+// The same nodes through a descriptor (device_types.h, kBindingBvhNodeBuffer;
+// read by the BVH walk only, shaders/intersect.glsl).
+layout(std430, set = 0, binding = kBindingBvhNodeBuffer) readonly buffer BvhNodeBlock { BvhNode bvhNodeBuffer[]; };
 #define primitives (PrimitiveArray(params.addresses0.xy).v)
 #define bvhNodes (BvhNodeArray(params.addresses0.zw).v)
 #define materials (MaterialArray(params.addresses1.xy).v)

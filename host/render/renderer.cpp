@@ -75,14 +75,33 @@ GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const R
     }
 }
 
+// Whether the BVH walk reads its nodes through kBindingBvhNodeBuffer instead
+// of their device address (shaders/intersect.glsl, kNodesFromDescriptor):
+// on lavapipe before Mesa 25, whose device-address loads go lane by lane and
+// word by word (measured on 22.3: 1.5x faster walks through the descriptor;
+// 25.0: 1.8x slower), when the nodes fit one storage buffer range.
+// WHITTED_BVH_NODE_READS=address or descriptor overrides the choice (the
+// latter only where the nodes fit; profiling, tests).
+bool nodesFromDescriptor(const VulkanContext& ctx, const GpuScene& scene) {
+    auto chain = ctx.physicalDevice.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties>();
+    const vk::PhysicalDeviceProperties& properties = chain.get<vk::PhysicalDeviceProperties2>().properties;
+    bool fits = scene.bvhNodes.size() * sizeof(gpu::BvhNode) <= properties.limits.maxStorageBufferRange;
+    if (const char* force = std::getenv("WHITTED_BVH_NODE_READS"); force && *force)
+        return fits && std::string_view(force) == "descriptor";
+    bool oldLavapipe = chain.get<vk::PhysicalDeviceDriverProperties>().driverID == vk::DriverId::eMesaLlvmpipe &&
+                       VK_API_VERSION_MAJOR(properties.driverVersion) < 25;
+    return fits && oldLavapipe;
+}
+
 // Specialization constants for a packed scene: the shapes in the BVH, any
 // transparency, the shapes outside it (planes). What a scene lacks compiles
 // out (on lavapipe every branch costs, taken or not: shaders/intersect.glsl).
-std::array<uint32_t, 3> specializationFor(const GpuScene& scene) {
-    std::array<uint32_t, 3> constants = {0u, 0u, 0u};
+std::array<uint32_t, 4> specializationFor(const VulkanContext& ctx, const GpuScene& scene) {
+    std::array<uint32_t, 4> constants = {0u, 0u, 0u, 0u};
     for (size_t i = 0; i < scene.primitives.size(); ++i)
         constants[i < scene.params.accel.y ? 0 : 2] |= 1u << scene.primitives[i].info.x;
     for (const gpu::Material& m : scene.materials) constants[1] |= m.coefs1.y > 0.0f ? 1u : 0u;
+    constants[3] = nodesFromDescriptor(ctx, scene) ? 1u : 0u;
     return constants;
 }
 
@@ -93,7 +112,8 @@ constexpr DescriptorBinding kBindings[] = {{gpu::kBindingParams, vk::DescriptorT
                                            {gpu::kBindingCounters, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingPixelList, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingGuide, vk::DescriptorType::eStorageBuffer},
-                                           {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer}};
+                                           {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingBvhNodeBuffer, vk::DescriptorType::eStorageBuffer}};
 constexpr uint32_t kStorageBindings = uint32_t(std::ranges::count(
     kBindings, vk::DescriptorType::eStorageBuffer, &DescriptorBinding::type));
 
@@ -219,11 +239,12 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
 // pool of one) that uploadScene() fills.
 void Renderer::buildPipeline() {
     auto start = Clock::now();
-    specialization_ = specializationFor(scene_);
+    specialization_ = specializationFor(ctx_, scene_);
     const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
                                                   {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
-                                                  {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
-    vk::SpecializationInfo specialization{.mapEntryCount = 3, .pMapEntries = entries,
+                                                  {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)},
+                                                  {gpu::kSpecNodeDescriptor, 3 * sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo specialization{.mapEntryCount = 4, .pMapEntries = entries,
                                           .dataSize = sizeof(specialization_), .pData = specialization_.data()};
     std::vector<uint32_t> variant = profilingShaderVariant();
     bool rayQuery = trace_ == TracePath::RayQuery;
@@ -247,7 +268,8 @@ void Renderer::uploadScene() {
     auto upload = [&](const auto& array, const char* what) {
         vk::DeviceSize bytes = array.size() * sizeof(array[0]);
         try {
-            return createDeviceBuffer(ctx_, array.data(), bytes, vk::BufferUsageFlagBits::eShaderDeviceAddress);
+            return createDeviceBuffer(ctx_, array.data(), bytes,
+                                      vk::BufferUsageFlagBits::eShaderDeviceAddress | kStorage);
         } catch (const std::runtime_error& e) {
             throw std::runtime_error("uploading the scene's " + std::to_string(array.size()) + " " + what + " (" +
                                      std::to_string(bytes) + " bytes; " + std::to_string(deviceBytes_ >> 20) +
@@ -288,9 +310,12 @@ void Renderer::uploadScene() {
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
 
     // In the order of kBindings.
-    const Buffer* buffers[] = {&params_, &output_, &counters_, &pixelList_, &guide_, &sampleStats_};
+    const Buffer* buffers[] = {&params_, &output_, &counters_, &pixelList_, &guide_, &sampleStats_, &bvhNodes_};
+    // Nodes beyond one storage buffer range are read through their address
+    // only (nodesFromDescriptor); the descriptor then names the first range.
+    vk::DeviceSize maxRange = ctx_.physicalDevice.getProperties().limits.maxStorageBufferRange;
     std::vector<vk::DescriptorBufferInfo> infos;
-    for (const Buffer* b : buffers) infos.push_back({*b->buffer, 0, VK_WHOLE_SIZE});
+    for (const Buffer* b : buffers) infos.push_back({*b->buffer, 0, std::min(b->size, maxRange)});
     std::vector<vk::WriteDescriptorSet> writes;
     for (uint32_t i = 0; i < infos.size(); ++i)
         writes.push_back({.dstSet = *descriptorSet_, .dstBinding = kBindings[i].binding, .descriptorCount = 1,
@@ -311,7 +336,7 @@ void Renderer::setScene(const Scene& scene) {
     settings.height = scene_.height;
     scene_ = packSceneThatFits(ctx_, scene, settings);
     // A shape or glass the old scene lacked needs the pipeline that has it.
-    if (specializationFor(scene_) != specialization_) buildPipeline();
+    if (specializationFor(ctx_, scene_) != specialization_) buildPipeline();
     uploadScene();
 }
 
