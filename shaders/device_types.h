@@ -34,9 +34,10 @@ WHITTED_CONST uint kBindingSampleStats = 9; // uvec4[2 * entries]: min colour bi
 // The scene's top-level acceleration structure, in the ray-query variant of
 // the shader only (shaders/ray_query.glsl).
 WHITTED_CONST uint kBindingTlas = 10;
-// The BVH nodes once more, as a storage buffer: the BVH walk reads them from
-// here where the driver loads a storage buffer faster than a device address
-// (kSpecNodeDescriptor; Mesa 22.3's lavapipe).
+// The BVH nodes once more, as a storage buffer: the BVH walk of the shader
+// variant built with -DWHITTED_BVH_NODE_BUFFER reads them from here, for
+// drivers that load a storage buffer faster than a device address (Mesa
+// 22.3's lavapipe; shaders/intersect.glsl).
 WHITTED_CONST uint kBindingBvhNodeBuffer = 12;  // BvhNode[] (the buffer at FrameParams.addresses0.zw)
 // Image textures (diffuse and normal maps): an array of combined image
 // samplers indexed by Material texture slots (shaders/texture.glsl).
@@ -88,7 +89,6 @@ WHITTED_CONST uint kBvhStackSize = 48;
 WHITTED_CONST uint kSpecShapeMask = 0;     // bit (1 << kShape*) set: the BVH holds that shape
 WHITTED_CONST uint kSpecTransparency = 1;  // nonzero: some material has kt > 0
 WHITTED_CONST uint kSpecListShapeMask = 2; // as kSpecShapeMask, for the primitives outside the BVH
-WHITTED_CONST uint kSpecNodeDescriptor = 3;  // nonzero: BVH nodes read through kBindingBvhNodeBuffer
 
 // FrameParams.options.z bit flags.
 WHITTED_CONST uint kOptionWriteAovs = 1u;

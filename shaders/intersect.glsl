@@ -154,22 +154,20 @@ bool traverseList(Ray ray, float tMax, const bool shadow, inout Hit hit, inout v
 #ifdef WHITTED_RAY_QUERY
 #include "ray_query.glsl"
 #else
-// Where the walk reads its nodes: through the device address (default) or
-// the storage buffer of the same nodes, a specialization constant set by the
-// renderer for drivers that load the latter faster. Lavapipe runs either as
-// a load per lane: Mesa 25.0 gathers a device address in one vector
-// instruction and a storage buffer in a loop over the lanes (bounds-checked
-// each); Mesa 22.3 loops over the lanes for both, once per 32-bit word of a
-// device address load, and its walk was 1.5x faster through the storage
-// buffer (README, "Profiling and what each change gained").
-layout(constant_id = kSpecNodeDescriptor) const bool kNodesFromDescriptor = false;
-
-BvhNode nodeAt(uint i) {
-    if (kNodesFromDescriptor) return BvhNode(bvhNodeBuffer[i].lo, bvhNodeBuffer[i].hi);
-    return BvhNode(bvhNodes[i].lo, bvhNodes[i].hi);
-}
-uint nodeLoWord(uint i) { return floatBitsToUint(kNodesFromDescriptor ? bvhNodeBuffer[i].lo.w : bvhNodes[i].lo.w); }
-uint nodeHiWord(uint i) { return floatBitsToUint(kNodesFromDescriptor ? bvhNodeBuffer[i].hi.w : bvhNodes[i].hi.w); }
+// Where the walk reads its nodes: through their device address, or in the
+// variant compiled with -DWHITTED_BVH_NODE_BUFFER (chosen by the renderer
+// for lavapipe before Mesa 25) through the storage buffer of the same nodes.
+// Lavapipe runs either as a load per lane: Mesa 25.0 gathers a device
+// address in one vector instruction and loops over the lanes for a storage
+// buffer (bounds-checked each); Mesa 22.3 loops over the lanes for both,
+// once per 32-bit word of a device address, and walks 1.3-2x faster through
+// the storage buffer (README, "Profiling and what each change gained"). A
+// variant, so that the default shader is the one measured on Mesa 25.
+#ifdef WHITTED_BVH_NODE_BUFFER
+#define bvhWalkNodes bvhNodeBuffer
+#else
+#define bvhWalkNodes bvhNodes
+#endif
 
 bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
                    inout vec3 opticalDepth) {
@@ -184,9 +182,9 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     int top = 0;
     uint children = kNoEntry;  // first child of the inner node to expand next
     uint prim = 0u, primEnd = 0u;
-    if (intersectNodeBounds(nodeAt(0u), ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0) {
+    if (intersectNodeBounds(bvhWalkNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0) {
         stackT[top] = 0.0;
-        stack[top++] = entryOf(nodeAt(0u), 0u);
+        stack[top++] = entryOf(bvhWalkNodes[0], 0u);
     }
 
     bool running = true;
@@ -197,7 +195,7 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             float tLimit = shadow ? tMax : hit.t;
             uint entry = kNoEntry;
             if (children != kNoEntry) {
-                BvhNode left = nodeAt(children), right = nodeAt(children + 1u);
+                BvhNode left = bvhWalkNodes[children], right = bvhWalkNodes[children + 1u];
                 float tLeft = intersectNodeBounds(left, ray.origin, invDir, tLimit);
                 float tRight = intersectNodeBounds(right, ray.origin, invDir, tLimit);
                 uint leftEntry = entryOf(left, children), rightEntry = entryOf(right, children + 1u);
@@ -229,8 +227,8 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                 // Only the two words needed: a whole node would be a
                 // gather of eight per lane.
                 uint leaf = entry & ~kLeafEntry;
-                prim = nodeLoWord(leaf);
-                primEnd = prim + nodeHiWord(leaf);
+                prim = floatBitsToUint(bvhWalkNodes[leaf].lo.w);
+                primEnd = prim + floatBitsToUint(bvhWalkNodes[leaf].hi.w);
             } else {
                 children = entry;
             }

@@ -6,6 +6,7 @@
 
 #include "whitted_comp.h"  // kWhittedCompSpv, generated from shaders/whitted.comp
 #include "whitted_comp_ray_query.h"  // kWhittedCompRayQuerySpv: the same with -DWHITTED_RAY_QUERY
+#include "whitted_comp_node_buffer.h"  // kWhittedCompNodeBufferSpv: the same with -DWHITTED_BVH_NODE_BUFFER
 
 #include <algorithm>
 #include <array>
@@ -76,7 +77,8 @@ GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const R
 }
 
 // Whether the BVH walk reads its nodes through kBindingBvhNodeBuffer instead
-// of their device address (shaders/intersect.glsl, kNodesFromDescriptor):
+// of their device address (the shader variant kWhittedCompNodeBufferSpv,
+// shaders/intersect.glsl):
 // on lavapipe before Mesa 25, whose device-address loads go lane by lane and
 // word by word (measured on 22.3: 1.5x faster walks through the descriptor;
 // 25.0: 1.8x slower), when the nodes fit one storage buffer range.
@@ -88,8 +90,11 @@ bool nodesFromDescriptor(const VulkanContext& ctx, const GpuScene& scene) {
     bool fits = scene.bvhNodes.size() * sizeof(gpu::BvhNode) <= properties.limits.maxStorageBufferRange;
     if (const char* force = std::getenv("WHITTED_BVH_NODE_READS"); force && *force)
         return fits && std::string_view(force) == "descriptor";
-    bool oldLavapipe = chain.get<vk::PhysicalDeviceDriverProperties>().driverID == vk::DriverId::eMesaLlvmpipe &&
-                       VK_API_VERSION_MAJOR(properties.driverVersion) < 25;
+    // lavapipe's driverVersion is 1; its driverInfo reads "Mesa 22.3.6 (LLVM 15.0.6)".
+    const auto& driver = chain.get<vk::PhysicalDeviceDriverProperties>();
+    std::string_view info(driver.driverInfo.data());
+    bool oldLavapipe = driver.driverID == vk::DriverId::eMesaLlvmpipe && info.starts_with("Mesa ") &&
+                       std::atoi(info.substr(5).data()) < 25;
     return fits && oldLavapipe;
 }
 
@@ -101,7 +106,7 @@ std::array<uint32_t, 4> specializationFor(const VulkanContext& ctx, const GpuSce
     for (size_t i = 0; i < scene.primitives.size(); ++i)
         constants[i < scene.params.accel.y ? 0 : 2] |= 1u << scene.primitives[i].info.x;
     for (const gpu::Material& m : scene.materials) constants[1] |= m.coefs1.y > 0.0f ? 1u : 0u;
-    constants[3] = nodesFromDescriptor(ctx, scene) ? 1u : 0u;
+    constants[3] = nodesFromDescriptor(ctx, scene) ? 1u : 0u;  // not a constant: the shader variant
     return constants;
 }
 
@@ -242,14 +247,14 @@ void Renderer::buildPipeline() {
     specialization_ = specializationFor(ctx_, scene_);
     const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
                                                   {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
-                                                  {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)},
-                                                  {gpu::kSpecNodeDescriptor, 3 * sizeof(uint32_t), sizeof(uint32_t)}};
-    vk::SpecializationInfo specialization{.mapEntryCount = 4, .pMapEntries = entries,
+                                                  {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo specialization{.mapEntryCount = 3, .pMapEntries = entries,
                                           .dataSize = sizeof(specialization_), .pData = specialization_.data()};
     std::vector<uint32_t> variant = profilingShaderVariant();
     bool rayQuery = trace_ == TracePath::RayQuery;
-    std::span<const uint32_t> embedded = rayQuery ? std::span<const uint32_t>(kWhittedCompRayQuerySpv)
-                                                  : std::span<const uint32_t>(kWhittedCompSpv);
+    std::span<const uint32_t> embedded = rayQuery                ? std::span<const uint32_t>(kWhittedCompRayQuerySpv)
+                                         : specialization_[3] != 0u ? std::span<const uint32_t>(kWhittedCompNodeBufferSpv)
+                                                                    : std::span<const uint32_t>(kWhittedCompSpv);
     std::vector<DescriptorBinding> bindings(std::begin(kBindings), std::end(kBindings));
     if (rayQuery) bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});
     descriptorSet_ = nullptr;  // freed before the layout it was allocated with goes
