@@ -78,10 +78,10 @@ GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const R
 
 // Whether the BVH walk reads its nodes through kBindingBvhNodeBuffer instead
 // of their device address (the shader variant kWhittedCompNodeBufferSpv,
-// shaders/intersect.glsl):
-// on lavapipe before Mesa 25, whose device-address loads go lane by lane and
-// word by word (measured on 22.3: 1.5x faster walks through the descriptor;
-// 25.0: 1.8x slower), when the nodes fit one storage buffer range.
+// shaders/intersect.glsl): on lavapipe before Mesa 25, whose device-address
+// loads go lane by lane and word by word (measured on 22.3: walks 1.3-2x
+// faster through the descriptor; 25.0: 1.8x slower), when the nodes fit one
+// storage buffer range.
 // WHITTED_BVH_NODE_READS=address or descriptor overrides the choice (the
 // latter only where the nodes fit; profiling, tests).
 bool nodesFromDescriptor(const VulkanContext& ctx, const GpuScene& scene) {
