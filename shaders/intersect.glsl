@@ -155,15 +155,16 @@ bool traverseList(Ray ray, float tMax, const bool shadow, inout Hit hit, inout v
 #include "ray_query.glsl"
 #else
 // Where the walk reads its nodes: through their device address, or in the
-// variant compiled with -DWHITTED_BVH_NODE_BUFFER (chosen by the renderer
-// for lavapipe before Mesa 25) through the storage buffer of the same nodes.
+// variant compiled with -DWHITTED_SCENE_STORAGE_BUFFERS (chosen by the
+// renderer for lavapipe before Mesa 25) through the storage buffer of the same
+// nodes (the primitives likewise: shaders/scene.glsl).
 // Lavapipe runs either as a load per lane: Mesa 25.0 gathers a device
 // address in one vector instruction and loops over the lanes for a storage
 // buffer (bounds-checked each); Mesa 22.3 loops over the lanes for both,
 // once per 32-bit word of a device address, and walks 1.3-2x faster through
 // the storage buffer (README, "Profiling and what each change gained"). A
 // variant, so that the default shader is the one measured on Mesa 25.
-#ifdef WHITTED_BVH_NODE_BUFFER
+#ifdef WHITTED_SCENE_STORAGE_BUFFERS
 #define bvhWalkNodes bvhNodeBuffer
 #else
 #define bvhWalkNodes bvhNodes

@@ -6,7 +6,7 @@
 
 #include "whitted_comp.h"  // kWhittedCompSpv, generated from shaders/whitted.comp
 #include "whitted_comp_ray_query.h"  // kWhittedCompRayQuerySpv: the same with -DWHITTED_RAY_QUERY
-#include "whitted_comp_node_buffer.h"  // kWhittedCompNodeBufferSpv: the same with -DWHITTED_BVH_NODE_BUFFER
+#include "whitted_comp_storage_buffers.h"  // kWhittedCompStorageBuffersSpv: the same with -DWHITTED_SCENE_STORAGE_BUFFERS
 
 #include <algorithm>
 #include <array>
@@ -76,19 +76,21 @@ GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const R
     }
 }
 
-// Whether the BVH walk reads its nodes through kBindingBvhNodeBuffer instead
-// of their device address (the shader variant kWhittedCompNodeBufferSpv,
-// shaders/intersect.glsl): on lavapipe before Mesa 25, whose device-address
-// loads go lane by lane and word by word (measured on 22.3: walks 1.3-2x
-// faster through the descriptor; 25.0: 1.8x slower), when the nodes fit one
+// Whether the shader reads BVH nodes and primitives through
+// kBindingBvhNodeBuffer and kBindingPrimitiveBuffer instead of their device
+// addresses (the variant kWhittedCompStorageBuffersSpv, shaders/scene.glsl):
+// on lavapipe before Mesa 25, whose device-address loads go lane by lane and
+// word by word (measured on 22.3: renders 1.4-2.6x faster through the
+// descriptors; 25.0: nodes alone 1.8x slower), when both arrays fit one
 // storage buffer range.
-// WHITTED_BVH_NODE_READS=address or descriptor overrides the choice (the
-// latter only where the nodes fit; profiling, tests).
-bool nodesFromDescriptor(const VulkanContext& ctx, const GpuScene& scene) {
+// WHITTED_SCENE_READS=address or descriptor overrides the choice (the
+// latter only where the arrays fit; profiling, tests).
+bool sceneFromStorageBuffers(const VulkanContext& ctx, const GpuScene& scene) {
     auto chain = ctx.physicalDevice.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties>();
     const vk::PhysicalDeviceProperties& properties = chain.get<vk::PhysicalDeviceProperties2>().properties;
-    bool fits = scene.bvhNodes.size() * sizeof(gpu::BvhNode) <= properties.limits.maxStorageBufferRange;
-    if (const char* force = std::getenv("WHITTED_BVH_NODE_READS"); force && *force)
+    bool fits = scene.bvhNodes.size() * sizeof(gpu::BvhNode) <= properties.limits.maxStorageBufferRange &&
+                scene.primitives.size() * sizeof(gpu::Primitive) <= properties.limits.maxStorageBufferRange;
+    if (const char* force = std::getenv("WHITTED_SCENE_READS"); force && *force)
         return fits && std::string_view(force) == "descriptor";
     // lavapipe's driverVersion is 1; its driverInfo reads "Mesa 22.3.6 (LLVM 15.0.6)".
     const auto& driver = chain.get<vk::PhysicalDeviceDriverProperties>();
@@ -106,7 +108,7 @@ std::array<uint32_t, 4> specializationFor(const VulkanContext& ctx, const GpuSce
     for (size_t i = 0; i < scene.primitives.size(); ++i)
         constants[i < scene.params.accel.y ? 0 : 2] |= 1u << scene.primitives[i].info.x;
     for (const gpu::Material& m : scene.materials) constants[1] |= m.coefs1.y > 0.0f ? 1u : 0u;
-    constants[3] = nodesFromDescriptor(ctx, scene) ? 1u : 0u;  // not a constant: the shader variant
+    constants[3] = sceneFromStorageBuffers(ctx, scene) ? 1u : 0u;  // not a constant: the shader variant
     return constants;
 }
 
@@ -118,7 +120,8 @@ constexpr DescriptorBinding kBindings[] = {{gpu::kBindingParams, vk::DescriptorT
                                            {gpu::kBindingPixelList, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingGuide, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer},
-                                           {gpu::kBindingBvhNodeBuffer, vk::DescriptorType::eStorageBuffer}};
+                                           {gpu::kBindingBvhNodeBuffer, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingPrimitiveBuffer, vk::DescriptorType::eStorageBuffer}};
 constexpr uint32_t kStorageBindings = uint32_t(std::ranges::count(
     kBindings, vk::DescriptorType::eStorageBuffer, &DescriptorBinding::type));
 
@@ -253,7 +256,7 @@ void Renderer::buildPipeline() {
     std::vector<uint32_t> variant = profilingShaderVariant();
     bool rayQuery = trace_ == TracePath::RayQuery;
     std::span<const uint32_t> embedded = rayQuery                ? std::span<const uint32_t>(kWhittedCompRayQuerySpv)
-                                         : specialization_[3] != 0u ? std::span<const uint32_t>(kWhittedCompNodeBufferSpv)
+                                         : specialization_[3] != 0u ? std::span<const uint32_t>(kWhittedCompStorageBuffersSpv)
                                                                     : std::span<const uint32_t>(kWhittedCompSpv);
     std::vector<DescriptorBinding> bindings(std::begin(kBindings), std::end(kBindings));
     if (rayQuery) bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});
@@ -315,9 +318,10 @@ void Renderer::uploadScene() {
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
 
     // In the order of kBindings.
-    const Buffer* buffers[] = {&params_, &output_, &counters_, &pixelList_, &guide_, &sampleStats_, &bvhNodes_};
-    // Nodes beyond one storage buffer range are read through their address
-    // only (nodesFromDescriptor); the descriptor then names the first range.
+    const Buffer* buffers[] = {&params_, &output_, &counters_, &pixelList_, &guide_, &sampleStats_, &bvhNodes_,
+                               &primitives_};
+    // Arrays beyond one storage buffer range are read through their address
+    // only (sceneFromStorageBuffers); the descriptor then names the first range.
     vk::DeviceSize maxRange = ctx_.physicalDevice.getProperties().limits.maxStorageBufferRange;
     std::vector<vk::DescriptorBufferInfo> infos;
     for (const Buffer* b : buffers) infos.push_back({*b->buffer, 0, std::min(b->size, maxRange)});
