@@ -6,6 +6,10 @@
 // the Efficiency of Ray Traversal on GPUs", HPG 2009): test both children's
 // boxes, descend into the nearer, push the farther; closest-hit rays shrink
 // their interval as hits are found, shadow rays stop at the first opaque hit.
+// Stacked entries keep their entry distance, and a closest-hit ray drops a
+// popped entry that lies behind its nearest hit so far, as Embree's
+// traversal does (Wald et al., "Embree: A Kernel Framework for Efficient CPU
+// Ray Tracing", SIGGRAPH 2014).
 #ifndef WHITTED_INTERSECT_GLSL
 #define WHITTED_INTERSECT_GLSL
 #include "scene.glsl"
@@ -189,6 +193,22 @@ bool traverseList(Ray ray, float tMax, const bool shadow, inout Hit hit, inout v
 #ifdef WHITTED_RAY_QUERY
 #include "ray_query.glsl"
 #else
+// Where the walk reads its nodes: through their device address, or in the
+// variant compiled with -DWHITTED_SCENE_STORAGE_BUFFERS (chosen by the
+// renderer for lavapipe before Mesa 25) through the storage buffer of the same
+// nodes (the primitives likewise: shaders/scene.glsl).
+// Lavapipe runs either as a load per lane: Mesa 25.0 gathers a device
+// address in one vector instruction and loops over the lanes for a storage
+// buffer (bounds-checked each); Mesa 22.3 loops over the lanes for both,
+// once per 32-bit word of a device address, and walks 1.3-2x faster through
+// the storage buffer (README, "Profiling and what each change gained"). A
+// variant, so that the default shader is the one measured on Mesa 25.
+#ifdef WHITTED_SCENE_STORAGE_BUFFERS
+#define bvhWalkNodes bvhNodeBuffer
+#else
+#define bvhWalkNodes bvhNodes
+#endif
+
 bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
                    inout vec3 opticalDepth) {
     if (!traverseList(ray, tMax, shadow, hit, transmittance, opticalDepth)) return false;
@@ -198,11 +218,14 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
 
     vec3 invDir = safeInverse(ray.dir);
     uint stack[kBvhStackSize];
+    float stackT[kBvhStackSize];  // entry distance of each stacked node (closest hit)
     int top = 0;
     uint children = kNoEntry;  // first child of the inner node to expand next
     uint prim = 0u, primEnd = 0u;
-    if (intersectNodeBounds(bvhNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0)
-        stack[top++] = entryOf(bvhNodes[0], 0u);
+    if (intersectNodeBounds(bvhWalkNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0) {
+        stackT[top] = 0.0;
+        stack[top++] = entryOf(bvhWalkNodes[0], 0u);
+    }
 
     bool running = true;
     while (running) {
@@ -212,12 +235,13 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             float tLimit = shadow ? tMax : hit.t;
             uint entry = kNoEntry;
             if (children != kNoEntry) {
-                BvhNode left = bvhNodes[children], right = bvhNodes[children + 1u];
+                BvhNode left = bvhWalkNodes[children], right = bvhWalkNodes[children + 1u];
                 float tLeft = intersectNodeBounds(left, ray.origin, invDir, tLimit);
                 float tRight = intersectNodeBounds(right, ray.origin, invDir, tLimit);
                 uint leftEntry = entryOf(left, children), rightEntry = entryOf(right, children + 1u);
                 if (tLeft >= 0.0 && tRight >= 0.0) {
                     bool leftFirst = shadow || tLeft <= tRight;
+                    if (!shadow) stackT[top] = leftFirst ? tRight : tLeft;
                     stack[top++] = leftFirst ? rightEntry : leftEntry;
                     entry = leftFirst ? leftEntry : rightEntry;
                 } else if (tLeft >= 0.0) {
@@ -226,16 +250,25 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                     entry = rightEntry;
                 }
             }
-            if (entry == kNoEntry && top > 0) entry = stack[--top];
+            bool culled = false;
+            if (entry == kNoEntry && top > 0) {
+                entry = stack[--top];
+                // Closest hit: a hit found since the push, nearer than the
+                // entry's box, culls it here rather than after a step (an
+                // inner node) or a test of each primitive (a leaf).
+                culled = !shadow && stackT[top] > tLimit;
+            }
             children = kNoEntry;
             if (entry == kNoEntry) {
                 running = false;
+            } else if (culled) {
+                // this step is spent; the next one pops again
             } else if ((entry & kLeafEntry) != 0u) {
                 // Only the two words needed: a whole node would be a
                 // gather of eight per lane.
                 uint leaf = entry & ~kLeafEntry;
-                prim = floatBitsToUint(bvhNodes[leaf].lo.w);
-                primEnd = prim + floatBitsToUint(bvhNodes[leaf].hi.w);
+                prim = floatBitsToUint(bvhWalkNodes[leaf].lo.w);
+                primEnd = prim + floatBitsToUint(bvhWalkNodes[leaf].hi.w);
             } else {
                 children = entry;
             }

@@ -5,6 +5,8 @@
 #include "test_support.h"
 
 #include <bit>
+#include <cstdlib>
+#include <optional>
 #include <random>
 
 namespace whitted::test {
@@ -80,6 +82,36 @@ TEST_P(BvhMatchesBruteForce, SameImage) {
 INSTANTIATE_TEST_SUITE_P(Scenes, BvhMatchesBruteForce,
                          ::testing::Values("room", "nested_spheres", "one_mirror", "several_mirrors", "n_objects",
                                            "n_diffuse_objects", "three_diffuse_spheres"),
+                         [](const auto& info) { return info.param; });
+
+// The shader reads BVH nodes and primitives through their device addresses
+// or, on drivers that load a storage buffer faster (lavapipe before Mesa 25),
+// through storage buffers of the same arrays (WHITTED_SCENE_READS forces either):
+// both give the same image, value for value, and the same ray counts.
+class SceneReads : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SceneReads, DescriptorMatchesAddress) {
+    Scene scene = loadScene(sourceDir() / "scenes" / (GetParam() + ".xml"));
+    RenderSettings s{.width = 96, .height = 72, .samplesPerPixel = 1, .maxDepth = 6, .auxiliary = false};
+    const char* old = std::getenv("WHITTED_SCENE_READS");
+    std::optional<std::string> saved = old ? std::optional<std::string>(old) : std::nullopt;
+    ::setenv("WHITTED_SCENE_READS", "address", 1);
+    RenderResult address = renderScene(scene, s);
+    ::setenv("WHITTED_SCENE_READS", "descriptor", 1);
+    RenderResult descriptor = renderScene(scene, s);
+    saved ? ::setenv("WHITTED_SCENE_READS", saved->c_str(), 1) : ::unsetenv("WHITTED_SCENE_READS");
+    ASSERT_GT(address.bvh.nodeCount, 0u);
+    int differing = 0;
+    for (int y = 0; y < address.height; ++y)
+        for (int x = 0; x < address.width; ++x)
+            if (pixel(address, gpu::kAovColor, x, y) != pixel(descriptor, gpu::kAovColor, x, y)) ++differing;
+    EXPECT_EQ(differing, 0) << "pixels that differ between reads through the addresses and the descriptors";
+    EXPECT_EQ(address.rays.primary, descriptor.rays.primary);
+    EXPECT_EQ(address.rays.shadow, descriptor.rays.shadow);
+    EXPECT_EQ(address.rays.secondary, descriptor.rays.secondary);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, SceneReads, ::testing::Values("room", "several_mirrors", "n_objects"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

@@ -6,6 +6,7 @@
 
 #include "whitted_comp.h"  // kWhittedCompSpv, generated from shaders/whitted.comp
 #include "whitted_comp_ray_query.h"  // kWhittedCompRayQuerySpv: the same with -DWHITTED_RAY_QUERY
+#include "whitted_comp_storage_buffers.h"  // kWhittedCompStorageBuffersSpv: the same with -DWHITTED_SCENE_STORAGE_BUFFERS
 
 #include <algorithm>
 #include <array>
@@ -75,17 +76,42 @@ GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const R
     }
 }
 
+// Whether the shader reads BVH nodes and primitives through
+// kBindingBvhNodeBuffer and kBindingPrimitiveBuffer instead of their device
+// addresses (the variant kWhittedCompStorageBuffersSpv, shaders/scene.glsl):
+// on lavapipe before Mesa 25, whose device-address loads go lane by lane and
+// word by word (measured on 22.3: renders 1.4-2.6x faster through the
+// descriptors; 25.0: nodes alone 1.8x slower), when both arrays fit one
+// storage buffer range.
+// WHITTED_SCENE_READS=address or descriptor overrides the choice (the
+// latter only where the arrays fit; profiling, tests).
+bool sceneFromStorageBuffers(const VulkanContext& ctx, const GpuScene& scene) {
+    auto chain = ctx.physicalDevice.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties>();
+    const vk::PhysicalDeviceProperties& properties = chain.get<vk::PhysicalDeviceProperties2>().properties;
+    bool fits = scene.bvhNodes.size() * sizeof(gpu::BvhNode) <= properties.limits.maxStorageBufferRange &&
+                scene.primitives.size() * sizeof(gpu::Primitive) <= properties.limits.maxStorageBufferRange;
+    if (const char* force = std::getenv("WHITTED_SCENE_READS"); force && *force)
+        return fits && std::string_view(force) == "descriptor";
+    // lavapipe's driverVersion is 1; its driverInfo reads "Mesa 22.3.6 (LLVM 15.0.6)".
+    const auto& driver = chain.get<vk::PhysicalDeviceDriverProperties>();
+    std::string_view info(driver.driverInfo.data());
+    bool oldLavapipe = driver.driverID == vk::DriverId::eMesaLlvmpipe && info.starts_with("Mesa ") &&
+                       std::atoi(info.substr(5).data()) < 25;
+    return fits && oldLavapipe;
+}
+
 // Specialization constants for a packed scene: the shapes in the BVH, any
 // transparency, the shapes outside it (planes). What a scene lacks compiles
 // out (on lavapipe every branch costs, taken or not: shaders/intersect.glsl).
-std::array<uint32_t, 3> specializationFor(const GpuScene& scene) {
-    std::array<uint32_t, 3> constants = {0u, 0u, 0u};
+std::array<uint32_t, 4> specializationFor(const VulkanContext& ctx, const GpuScene& scene) {
+    std::array<uint32_t, 4> constants = {0u, 0u, 0u, 0u};
     // The csg leaves after the listed primitives are intersected by
     // intersectCsg only.
     size_t listEnd = scene.params.accel.y + scene.params.accel.z;
     for (size_t i = 0; i < listEnd; ++i)
         constants[i < scene.params.accel.y ? 0 : 2] |= 1u << scene.primitives[i].info.x;
     for (const gpu::Material& m : scene.materials) constants[1] |= m.coefs1.y > 0.0f ? 1u : 0u;
+    constants[3] = sceneFromStorageBuffers(ctx, scene) ? 1u : 0u;  // not a constant: the shader variant
     return constants;
 }
 
@@ -97,6 +123,8 @@ constexpr DescriptorBinding kBindings[] = {{gpu::kBindingParams, vk::DescriptorT
                                            {gpu::kBindingPixelList, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingGuide, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingBvhNodeBuffer, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingPrimitiveBuffer, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingTextures, vk::DescriptorType::eCombinedImageSampler,
                                             gpu::kMaxTextures}};
 constexpr uint32_t kStorageBindings = uint32_t(std::ranges::count(
@@ -228,7 +256,7 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
 // pool of one) that uploadScene() fills.
 void Renderer::buildPipeline() {
     auto start = Clock::now();
-    specialization_ = specializationFor(scene_);
+    specialization_ = specializationFor(ctx_, scene_);
     const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
                                                   {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
                                                   {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
@@ -236,8 +264,9 @@ void Renderer::buildPipeline() {
                                           .dataSize = sizeof(specialization_), .pData = specialization_.data()};
     std::vector<uint32_t> variant = profilingShaderVariant();
     bool rayQuery = trace_ == TracePath::RayQuery;
-    std::span<const uint32_t> embedded = rayQuery ? std::span<const uint32_t>(kWhittedCompRayQuerySpv)
-                                                  : std::span<const uint32_t>(kWhittedCompSpv);
+    std::span<const uint32_t> embedded = rayQuery                ? std::span<const uint32_t>(kWhittedCompRayQuerySpv)
+                                         : specialization_[3] != 0u ? std::span<const uint32_t>(kWhittedCompStorageBuffersSpv)
+                                                                    : std::span<const uint32_t>(kWhittedCompSpv);
     std::vector<DescriptorBinding> bindings(std::begin(kBindings), std::end(kBindings));
     if (rayQuery) bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});
     descriptorSet_ = nullptr;  // freed before the layout it was allocated with goes
@@ -256,7 +285,8 @@ void Renderer::uploadScene() {
     auto upload = [&](const auto& array, const char* what) {
         vk::DeviceSize bytes = array.size() * sizeof(array[0]);
         try {
-            return createDeviceBuffer(ctx_, array.data(), bytes, vk::BufferUsageFlagBits::eShaderDeviceAddress);
+            return createDeviceBuffer(ctx_, array.data(), bytes,
+                                      vk::BufferUsageFlagBits::eShaderDeviceAddress | kStorage);
         } catch (const std::runtime_error& e) {
             throw std::runtime_error("uploading the scene's " + std::to_string(array.size()) + " " + what + " (" +
                                      std::to_string(bytes) + " bytes; " + std::to_string(deviceBytes_ >> 20) +
@@ -317,9 +347,13 @@ void Renderer::uploadScene() {
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
 
     // In the order of kBindings.
-    const Buffer* buffers[] = {&params_, &output_, &counters_, &pixelList_, &guide_, &sampleStats_};
+    const Buffer* buffers[] = {&params_, &output_, &counters_, &pixelList_, &guide_, &sampleStats_, &bvhNodes_,
+                               &primitives_};
+    // Arrays beyond one storage buffer range are read through their address
+    // only (sceneFromStorageBuffers); the descriptor then names the first range.
+    vk::DeviceSize maxRange = ctx_.physicalDevice.getProperties().limits.maxStorageBufferRange;
     std::vector<vk::DescriptorBufferInfo> infos;
-    for (const Buffer* b : buffers) infos.push_back({*b->buffer, 0, VK_WHOLE_SIZE});
+    for (const Buffer* b : buffers) infos.push_back({*b->buffer, 0, std::min(b->size, maxRange)});
     std::vector<vk::WriteDescriptorSet> writes;
     for (uint32_t i = 0; i < infos.size(); ++i)
         writes.push_back({.dstSet = *descriptorSet_, .dstBinding = kBindings[i].binding, .descriptorCount = 1,
@@ -346,7 +380,7 @@ void Renderer::setScene(const Scene& scene) {
     settings.height = scene_.height;
     scene_ = packSceneThatFits(ctx_, scene, settings);
     // A shape or glass the old scene lacked needs the pipeline that has it.
-    if (specializationFor(scene_) != specialization_) buildPipeline();
+    if (specializationFor(ctx_, scene_) != specialization_) buildPipeline();
     uploadScene();
 }
 

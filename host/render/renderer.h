@@ -121,7 +121,7 @@ private:
     TracePath trace_ = TracePath::Bvh;  // settings_.trace resolved for the device
     SceneAccelerationStructures accelerationStructures_;  // ray queries only
     ComputePipeline pipeline_;
-    std::array<uint32_t, 3> specialization_{};  // what pipeline_ was specialised for
+    std::array<uint32_t, 4> specialization_{};  // what pipeline_ was specialised for; [3]: the storage-buffer variant
     uint32_t layerCount_;
     ImageLayout layout_;
     uint32_t bandRows_ = 0;  // rows of the region per band
