@@ -34,12 +34,14 @@ WHITTED_CONST uint kBindingSampleStats = 9; // uvec4[2 * entries]: min colour bi
 // The scene's top-level acceleration structure, in the ray-query variant of
 // the shader only (shaders/ray_query.glsl).
 WHITTED_CONST uint kBindingTlas = 10;
-// The BVH nodes and the primitives once more, as storage buffers: the shader
+// The BVH nodes, primitives, materials and lights once more, as storage buffers: the shader
 // variant built with -DWHITTED_SCENE_STORAGE_BUFFERS reads them from here, for
 // drivers that load a storage buffer faster than a device address (Mesa
 // 22.3's lavapipe; shaders/scene.glsl, shaders/intersect.glsl).
 WHITTED_CONST uint kBindingBvhNodeBuffer = 12;  // BvhNode[] (the buffer at FrameParams.addresses0.zw)
 WHITTED_CONST uint kBindingPrimitiveBuffer = 13;  // Primitive[] (the buffer at FrameParams.addresses0.xy)
+WHITTED_CONST uint kBindingMaterialBuffer = 14;   // Material[] (FrameParams.addresses1.xy)
+WHITTED_CONST uint kBindingLightBuffer = 15;      // Light[] (FrameParams.addresses1.zw)
 // Image textures (diffuse and normal maps): an array of combined image
 // samplers indexed by Material texture slots (shaders/texture.glsl).
 WHITTED_CONST uint kBindingTextures = 11;

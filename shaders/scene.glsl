@@ -33,22 +33,26 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Pr
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MaterialArray { Material v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer LightArray { Light v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer BvhNodeArray { BvhNode v[]; };
-// The same nodes and primitives through descriptors (device_types.h,
-// kBindingBvhNodeBuffer), read in the variant built with
+// The same arrays through descriptors (device_types.h,
+// kBindingBvhNodeBuffer...), read in the variant built with
 // -DWHITTED_SCENE_STORAGE_BUFFERS only: the BVH walk's nodes
-// (shaders/intersect.glsl) and every primitive.
+// (shaders/intersect.glsl) and every primitive, material and light.
 layout(std430, set = 0, binding = kBindingBvhNodeBuffer) readonly buffer BvhNodeBlock { BvhNode bvhNodeBuffer[]; };
 layout(std430, set = 0, binding = kBindingPrimitiveBuffer) readonly buffer PrimitiveBlock {
     Primitive primitiveBuffer[];
 };
+layout(std430, set = 0, binding = kBindingMaterialBuffer) readonly buffer MaterialBlock { Material materialBuffer[]; };
+layout(std430, set = 0, binding = kBindingLightBuffer) readonly buffer LightBlock { Light lightBuffer[]; };
 #ifdef WHITTED_SCENE_STORAGE_BUFFERS
 #define primitives primitiveBuffer
+#define materials materialBuffer
+#define lights lightBuffer
 #else
 #define primitives (PrimitiveArray(params.addresses0.xy).v)
-#endif
-#define bvhNodes (BvhNodeArray(params.addresses0.zw).v)
 #define materials (MaterialArray(params.addresses1.xy).v)
 #define lights (LightArray(params.addresses1.zw).v)
+#endif
+#define bvhNodes (BvhNodeArray(params.addresses0.zw).v)
 // The csg objects' programs (shaders/shapes/csg.glsl).
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer CsgNodeArray { CsgNode v[]; };
 #define csgNodes (CsgNodeArray(params.addresses2.xy).v)

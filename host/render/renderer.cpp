@@ -76,20 +76,22 @@ GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const R
     }
 }
 
-// Whether the shader reads BVH nodes and primitives through
-// kBindingBvhNodeBuffer and kBindingPrimitiveBuffer instead of their device
-// addresses (the variant kWhittedCompStorageBuffersSpv, shaders/scene.glsl):
-// on lavapipe before Mesa 25, whose device-address loads go lane by lane and
-// word by word (measured on 22.3: renders 1.4-2.6x faster through the
-// descriptors; 25.0: nodes alone 1.8x slower), when both arrays fit one
-// storage buffer range.
+// Whether the shader reads BVH nodes, primitives, materials and lights
+// through kBindingBvhNodeBuffer... instead of their device addresses (the
+// variant kWhittedCompStorageBuffersSpv, shaders/scene.glsl): on lavapipe
+// before Mesa 25, whose device-address loads go lane by lane and word by word
+// (measured on 22.3: the room renders 2.7x faster through the descriptors;
+// 25.0: nodes alone 1.8x slower), when every array fits one storage buffer
+// range.
 // WHITTED_SCENE_READS=address or descriptor overrides the choice (the
 // latter only where the arrays fit; profiling, tests).
 bool sceneFromStorageBuffers(const VulkanContext& ctx, const GpuScene& scene) {
     auto chain = ctx.physicalDevice.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties>();
     const vk::PhysicalDeviceProperties& properties = chain.get<vk::PhysicalDeviceProperties2>().properties;
     bool fits = scene.bvhNodes.size() * sizeof(gpu::BvhNode) <= properties.limits.maxStorageBufferRange &&
-                scene.primitives.size() * sizeof(gpu::Primitive) <= properties.limits.maxStorageBufferRange;
+                scene.primitives.size() * sizeof(gpu::Primitive) <= properties.limits.maxStorageBufferRange &&
+                scene.materials.size() * sizeof(gpu::Material) <= properties.limits.maxStorageBufferRange &&
+                scene.lights.size() * sizeof(gpu::Light) <= properties.limits.maxStorageBufferRange;
     if (const char* force = std::getenv("WHITTED_SCENE_READS"); force && *force)
         return fits && std::string_view(force) == "descriptor";
     // lavapipe's driverVersion is 1; its driverInfo reads "Mesa 22.3.6 (LLVM 15.0.6)".
@@ -125,6 +127,8 @@ constexpr DescriptorBinding kBindings[] = {{gpu::kBindingParams, vk::DescriptorT
                                            {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingBvhNodeBuffer, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingPrimitiveBuffer, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingMaterialBuffer, vk::DescriptorType::eStorageBuffer},
+                                           {gpu::kBindingLightBuffer, vk::DescriptorType::eStorageBuffer},
                                            {gpu::kBindingTextures, vk::DescriptorType::eCombinedImageSampler,
                                             gpu::kMaxTextures}};
 constexpr uint32_t kStorageBindings = uint32_t(std::ranges::count(
@@ -348,7 +352,7 @@ void Renderer::uploadScene() {
 
     // In the order of kBindings.
     const Buffer* buffers[] = {&params_, &output_, &counters_, &pixelList_, &guide_, &sampleStats_, &bvhNodes_,
-                               &primitives_};
+                               &primitives_, &materials_, &lights_};
     // Arrays beyond one storage buffer range are read through their address
     // only (sceneFromStorageBuffers); the descriptor then names the first range.
     vk::DeviceSize maxRange = ctx_.physicalDevice.getProperties().limits.maxStorageBufferRange;
