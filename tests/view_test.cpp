@@ -361,6 +361,29 @@ void expectClose(const glm::dvec3& a, const glm::dvec3& b, const std::string& wh
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(a[i], b[i], 1e-12 * std::max(1.0, std::abs(a[i]))) << what;
 }
 
+// Written to another folder, a scene's texture paths are made relative to
+// the new file, so the copy loads the same images.
+TEST(SceneWriter, TexturePathsFollowTheWrittenFile) {
+    fs::path dir = outputDir() / "scene_writer_elsewhere" / "deeper";
+    fs::create_directories(dir);
+    Scene a = loadScene(sourceDir() / "scenes" / "showcase.xml");
+    writeSceneFile(a, dir / "copy.xml");
+    Scene b = loadScene(dir / "copy.xml");
+    ASSERT_EQ(a.objects.size(), b.objects.size());
+    int textures = 0;
+    for (size_t i = 0; i < a.objects.size(); ++i)
+        for (auto member : {&Material::diffuseTexture, &Material::normalMap}) {
+            const TextureRef &t = a.objects[i].material.*member, &u = b.objects[i].material.*member;
+            ASSERT_EQ(bool(t), bool(u)) << "object " << i;
+            if (!t) continue;
+            ++textures;
+            EXPECT_NE(t.written, u.written) << "the path was not relocated";
+            EXPECT_EQ(fs::weakly_canonical(sourceDir() / "scenes" / t.written),
+                      fs::weakly_canonical(dir / u.written));
+        }
+    EXPECT_EQ(textures, 3);
+}
+
 TEST(SceneWriter, RoundTripGivesEqualScene) {
     std::vector<fs::path> files;
     for (const char* folder : {"scenes", "tests/povray_scenes", "tests/legal_scenes"})
@@ -371,7 +394,9 @@ TEST(SceneWriter, RoundTripGivesEqualScene) {
         SCOPED_TRACE(file.string());
         Scene a = loadScene(file);
         std::string text = sceneXml(a);
-        Scene b = loadSceneFromString(text, "written.xml");
+        // Without a destination, file paths stay as the scene wrote them
+        // (relative to its folder): read back as a file beside it.
+        Scene b = loadSceneFromString(text, file.parent_path() / "written.xml");
         expectClose(a.camera.eye, b.camera.eye, "eye");
         expectClose(a.camera.windowCenter, b.camera.windowCenter, "window");
         expectClose(a.camera.up, b.camera.up, "up");

@@ -48,7 +48,37 @@ void writeCamera(XmlOut& x, const Camera& c) {
     x.close("camera");
 }
 
-void writeMaterialProperties(XmlOut& x, const Material& m) {
+// Where the scene came from and where its text goes: file paths in it
+// (textures, model files) are written relative to the destination's folder.
+struct FilePlaces {
+    std::filesystem::path sceneFolder;  // the folder relative paths in the loaded scene start from
+    std::filesystem::path destination;  // the file written (empty: unknown, paths stay as they are)
+};
+
+std::string escapedXml(const std::string& text) {
+    std::string escaped;
+    for (char c : text) escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : std::string(1, c);
+    return escaped;
+}
+
+// An absolute file path as the written scene names it: relative to the
+// folder it is written to (absolute when that is unknown or on another root).
+std::string fileText(const std::filesystem::path& absolute, const FilePlaces& places) {
+    if (places.destination.empty()) return escapedXml(absolute.string());
+    std::filesystem::path folder = std::filesystem::absolute(places.destination).parent_path();
+    std::filesystem::path relative = absolute.lexically_relative(folder);
+    return escapedXml(relative.empty() ? absolute.string() : relative.generic_string());
+}
+
+// A texture's path as the loaded scene wrote it, made relative to the new file.
+std::string textureText(const TextureRef& texture, const FilePlaces& places) {
+    std::filesystem::path path(texture.written);
+    if (places.destination.empty()) return escapedXml(texture.written);
+    if (path.is_relative()) path = places.sceneFolder / path;
+    return fileText(std::filesystem::absolute(path).lexically_normal(), places);
+}
+
+void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& places) {
     x.value("refraction_coef", m.ior);
     x.value("transmission_coef", m.transmission);
     x.value("specular_coef", m.specular);
@@ -61,12 +91,13 @@ void writeMaterialProperties(XmlOut& x, const Material& m) {
         x.value("checker_size", m.checkerSize);
     }
     if (m.absorption != glm::dvec3(0)) x.colour("absorption", m.absorption);
-    // The texture's path as the scene file wrote it (relative to its folder).
-    // (A model file's own texture has no path to write: the file is written
-    // again as its <file>, without a colour, and brings it back.)
-    if (m.diffuseTexture && !m.diffuseTexture.written.empty()) x.value("diffuse_texture", m.diffuseTexture.written);
+    // Texture files, relative to the written file's folder. (A model file's
+    // own texture has no path to write: the file is written again as its
+    // <file>, without a colour, and brings it back.)
+    if (m.diffuseTexture && !m.diffuseTexture.written.empty())
+        x.value("diffuse_texture", textureText(m.diffuseTexture, places));
     if (m.normalMap && !m.normalMap.written.empty()) {
-        x.value("normal_map", m.normalMap.written);
+        x.value("normal_map", textureText(m.normalMap, places));
         x.value("normal_strength", m.normalStrength);
     }
 }
@@ -78,31 +109,18 @@ void writeTriangleVertices(XmlOut& x, const Triangle& t, const glm::dvec3& origi
     x.vector("vertex", t.v2 - origin);
 }
 
-// The <file> of a mesh read from a model file: relative to the folder the
-// scene is written to (absolute when that is unknown or on another root).
-std::string meshFileText(const Mesh::FileSource& source, const std::filesystem::path& destination) {
-    if (destination.empty()) return source.path.string();
-    std::filesystem::path folder = std::filesystem::absolute(destination).parent_path();
-    std::filesystem::path relative = source.path.lexically_relative(folder);
-    std::string text = relative.empty() ? source.path.string() : relative.generic_string();
-    std::string escaped;
-    for (char c : text) escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : std::string(1, c);
-    return escaped;
-}
-
 // One <object>: a top-level one (origin 0, its material written), or a csg
 // child, its position relative to the csg object's (origin) and its
 // material written only when it has its own.
-// `destination` is the file the text is for (mesh files are written relative to it).
 void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin,
-                 const std::filesystem::path& destination);
+                 const FilePlaces& places);
 
-void writeObject(XmlOut& x, const Object& o, const std::filesystem::path& destination) {
-    writeObject(x, o.shape, o.material, true, glm::dvec3(0), destination);
+void writeObject(XmlOut& x, const Object& o, const FilePlaces& places) {
+    writeObject(x, o.shape, o.material, true, glm::dvec3(0), places);
 }
 
 void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin,
-                 const std::filesystem::path& destination) {
+                 const FilePlaces& places) {
     const Mesh* mesh = std::get_if<Mesh>(&shape);
     const Mesh::FileSource* source = mesh && mesh->source ? &*mesh->source : nullptr;
     // A model file split by its own materials: written once, by its first
@@ -144,7 +162,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
     x.open("properties");
     static const char* kTypes[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh", "csg"};
     x.value("type", kTypes[shape.index()]);
-    if (writeMaterial) writeMaterialProperties(x, m);
+    if (writeMaterial) writeMaterialProperties(x, m, places);
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
@@ -165,7 +183,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                 static const char* kOperations[] = {"union", "intersection", "difference"};
                 x.value("operation", kOperations[int(s.operation)]);
             } else if (source) {
-                x.value("file", meshFileText(*source, destination));
+                x.value("file", fileText(source->path, places));
                 if (source->scale != glm::dvec3(1)) x.vector("scale", source->scale);
                 if (source->rotationDegrees != glm::dvec3(0)) x.vector("rotation", source->rotationDegrees);
             } else {
@@ -186,7 +204,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
     if (const Csg* csg = std::get_if<Csg>(&shape)) {
         x.open("objects");
         for (const CsgChild& child : csg->children)
-            writeObject(x, child.shape, child.material, child.ownMaterial, csg->position, destination);
+            writeObject(x, child.shape, child.material, child.ownMaterial, csg->position, places);
         x.close("objects");
     }
     x.close("object");
@@ -220,7 +238,8 @@ std::string sceneXml(const Scene& scene, const std::filesystem::path& destinatio
     }
     x.close("lights");
     x.open("objects");
-    for (const Object& o : scene.objects) writeObject(x, o, destination);
+    FilePlaces places{scene.sourcePath.parent_path(), destination};
+    for (const Object& o : scene.objects) writeObject(x, o, places);
     x.close("objects");
     x.close("scene");
     return x.str();
