@@ -10,10 +10,10 @@ packages=(
   libglfw3-dev libglm-dev libtinyxml2-dev libopenimageio-dev openimageio-tools
   libgtest-dev libcli11-dev
   povray xvfb xauth
-  assimp-testmodels  # a real textured glTF (BoxTextured.glb) for tests/texture_test.cpp
+  assimp-testmodels  # real models for tests (BoxTextured.glb, ClearCoatTest.gltf, quick looks)
   python3-matplotlib
   clang-14 libfuzzer-14-dev libclang-rt-14-dev
-  libassimp-dev assimp-testmodels
+  libassimp-dev
   libimgui-dev xdotool
   nlohmann-json3-dev
   python3-distributed python3-openimageio
