@@ -100,16 +100,23 @@ vec3 normalMapped(uint slot, float strength, SurfaceUv s, vec3 ns, float lod) {
     return length2 > 1e-20 ? mapped * inversesqrt(length2) : ns;
 }
 
-// Signed curvature of primitive `prim` where its geometric normal is n,
+// Signed curvature of primitive `prim` at p where its geometric normal is n,
 // positive where the surface is convex towards n (the outside of spheres
-// and cylinders): 1/r on spheres and cylinder sides, 0 on flat shapes, and
+// and cylinders): +-1/r on spheres and cylinder sides (negative where n
+// points towards the centre or axis: a sphere or cylinder subtracted by
+// CSG, whose surface faces into the removed volume), 0 on flat shapes, and
 // on smooth mesh triangles the mean over the edges of
 // (n_j - n_i) . (p_j - p_i) / |p_j - p_i|^2 with the vertex normals turned to
 // the winding's side (1/r exactly on a sphere's tessellation).
-float surfaceCurvature(Primitive prim, vec3 n) {
+float surfaceCurvature(Primitive prim, vec3 n, vec3 p) {
     switch (prim.info.x) {
-        case kShapeSphere: return 1.0 / prim.a.w;
-        case kShapeCylinder: return abs(dot(n, prim.b.xyz)) > 0.5 ? 0.0 : 1.0 / prim.a.w;
+        case kShapeSphere: return (dot(n, p - prim.a.xyz) < 0.0 ? -1.0 : 1.0) / prim.a.w;
+        case kShapeCylinder: {
+            if (abs(dot(n, prim.b.xyz)) > 0.5) return 0.0;  // a cap
+            vec3 radial = p - prim.a.xyz;
+            radial -= dot(radial, prim.b.xyz) * prim.b.xyz;
+            return (dot(n, radial) < 0.0 ? -1.0 : 1.0) / prim.a.w;
+        }
         case kShapeTriangle: {
             if (prim.info.z != kTriangleSmooth) return 0.0;
             vec3 p[3] = vec3[3](prim.a.xyz, prim.b.xyz, prim.c.xyz);

@@ -179,7 +179,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // towards the ray): a mirror adds 2 k w (focal length 1 / (2 k)),
         // refraction from index n1 into n2 scales the angle by
         // eta = n1 / n2 and adds -(1 - eta) k w (the surface's power).
-        float curvature = surfaceCurvature(prim, hit.normal) * (frontFace ? 1.0 : -1.0);
+        float curvature = surfaceCurvature(prim, hit.normal, p) * (frontFace ? 1.0 : -1.0);
         if (kt > 0.0) {
             float eta = frontFace ? 1.0 / ior : ior;
             vec3 refracted = refract(ray.dir, ns, eta);

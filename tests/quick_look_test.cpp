@@ -148,6 +148,36 @@ TEST(QuickLook, WrittenSceneKeepsTheModelsMaterials) {
     EXPECT_TRUE(a.layers[gpu::kAovColor] == b.layers[gpu::kAovColor]);
 }
 
+// The parts of a model split by its materials move and change together:
+// an edit of one part (as the panel or the script makes it) is applied to
+// all, so the written scene, which names the file once, reloads as shown.
+TEST(QuickLook, PartsOfOneModelAreEditedTogether) {
+    fs::path dir = scratchDir("parts");
+    const fs::path model = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
+    fs::copy_file(model, dir / "engine.glb");
+    Scene scene = quickLookScene(dir / "engine.glb");
+    size_t parts = scene.objects.size() - 1;  // the floor last
+    ASSERT_GT(parts, 2u);
+    const glm::dvec3 before = shapeReferencePoint(scene.objects[0].shape);
+    ASSERT_FALSE(setObjectField(scene, 2, "y", shapeReferencePoint(scene.objects[2].shape).y + 0.5));
+    ASSERT_FALSE(setObjectField(scene, 1, "kd", 0.3));
+    for (size_t i = 0; i < parts; ++i) {
+        EXPECT_EQ(scene.objects[i].material.diffuse, 0.3) << "part " << i;
+        EXPECT_NEAR(std::get<Mesh>(scene.objects[i].shape).source->position.y,
+                    std::get<Mesh>(scene.objects[2].shape).source->position.y, 1e-12);
+    }
+    EXPECT_NEAR(shapeReferencePoint(scene.objects[0].shape).y - before.y, 0.5, 1e-9);
+    writeSceneFile(scene, dir / "edited.xml");
+    Scene loaded = loadScene(dir / "edited.xml");
+    ASSERT_EQ(loaded.objects.size(), scene.objects.size());
+    RenderSettings s{.width = 80, .height = 60, .samplesPerPixel = 1, .maxDepth = 2};
+    RenderResult a = renderScene(scene, s), b = renderScene(loaded, s);
+    ASSERT_EQ(a.layers[gpu::kAovColor].size(), b.layers[gpu::kAovColor].size());
+    for (size_t i = 0; i < a.layers[gpu::kAovColor].size(); ++i)  // vertices re-placed from the file, within rounding
+        ASSERT_NEAR(a.layers[gpu::kAovColor][i], b.layers[gpu::kAovColor][i], 2e-3f) << "value " << i;
+}
+
 // The command line: a model renders (into -o or a history folder whose
 // scene.xml is the generated scene), bad models exit 2 with the reason.
 TEST(QuickLook, CommandLine) {

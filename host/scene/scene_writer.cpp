@@ -155,10 +155,9 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                 x.vector("position", s.position - origin);
         },
         shape);
-    if (writeMaterial && !fileMaterials) {
-        x.colour("diffuse_color", m.diffuseColor);
-        x.colour("specular_color", m.specularColor);
-    }
+    // A model file's own materials come back only without a diffuse colour.
+    if (writeMaterial && !fileMaterials) x.colour("diffuse_color", m.diffuseColor);
+    if (writeMaterial) x.colour("specular_color", m.specularColor);
     x.open("properties");
     static const char* kTypes[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh", "csg"};
     x.value("type", kTypes[shape.index()]);

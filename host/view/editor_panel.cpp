@@ -79,6 +79,30 @@ void drawOverlay(const OverlayInfo& info) {
     }
 }
 
+// The parts of one model file split by its own materials (README "Model
+// files") are one object to the user: an edit of a part (its placement, its
+// material apart from the file's colour and textures) is applied to the
+// others, so the scene writer, which names the file once, saves what the
+// window shows. `moved` is how far the edited part's shape moved.
+static void syncModelParts(Scene& scene, int object, const glm::dvec3& moved) {
+    const Object& edited = scene.objects[object];
+    const Mesh* mesh = std::get_if<Mesh>(&edited.shape);
+    if (!mesh || !mesh->source || mesh->source->part < 0) return;
+    for (int j = 0; j < int(scene.objects.size()); ++j) {
+        Object& other = scene.objects[j];
+        const Mesh* part = std::get_if<Mesh>(&other.shape);
+        if (j == object || !part || !part->source || part->source->part < 0 ||
+            part->source->path != mesh->source->path || other.sourceLine != edited.sourceLine)
+            continue;
+        if (moved != glm::dvec3(0)) translateShape(other.shape, moved);
+        Material own = other.material;
+        other.material = edited.material;
+        other.material.diffuseColor = own.diffuseColor;
+        other.material.diffuseTexture = own.diffuseTexture;
+        other.material.normalMap = own.normalMap;
+    }
+}
+
 EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
     EditorResult result;
     if (!state.visible) return result;
@@ -126,7 +150,10 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         Object& o = scene.objects[state.selectedObject];
         Material& m = o.material;
         ImGui::Text("object %d: %s", state.selectedObject, shapeName(o.shape));
-        glm::dvec3 p = shapeReferencePoint(o.shape);
+        const glm::dvec3 before = shapeReferencePoint(o.shape);
+        const Mesh* mesh = std::get_if<Mesh>(&o.shape);
+        bool filePart = mesh && mesh->source && mesh->source->part >= 0;
+        glm::dvec3 p = before;
         if (editVector("position", p, 0.02f)) {
             m.checkerOrigin += p - shapeReferencePoint(o.shape);  // the checker moves with the object
             translateShape(o.shape, p - shapeReferencePoint(o.shape));
@@ -147,7 +174,10 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
                 result.changed = true;
             }
         }
-        result.changed |= editColour("diffuse colour", m.diffuseColor, false);
+        if (filePart)  // the model file's colour, per part: not saved, so not edited
+            ImGui::TextDisabled("diffuse colour: the model file's");
+        else
+            result.changed |= editColour("diffuse colour", m.diffuseColor, false);
         result.changed |= editColour("specular colour", m.specularColor, false);
         result.changed |= editScalar("ambient ka", m.ambient, 0, 1);
         result.changed |= editScalar("diffuse kd", m.diffuse, 0, 1);
@@ -188,6 +218,7 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
             }
         }
         if (m.normalMap) result.changed |= editScalar("normal strength", m.normalStrength, 0, 4);
+        if (result.changed) syncModelParts(scene, state.selectedObject, shapeReferencePoint(o.shape) - before);
     } else {
         ImGui::TextDisabled("select a light or an object");
     }
@@ -195,10 +226,9 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
     return result;
 }
 
-std::optional<std::string> setObjectField(Scene& scene, int object, const std::string& field, double value) {
-    if (object < 0 || object >= int(scene.objects.size()))
-        return "no object " + std::to_string(object) + " (the scene has " + std::to_string(scene.objects.size()) + ")";
-    if (!std::isfinite(value)) return "value is not finite";
+namespace {
+
+std::optional<std::string> setOneObjectField(Scene& scene, int object, const std::string& field, double value) {
     Object& o = scene.objects[object];
     Material& m = o.material;
     auto unit = [&](double& target) -> std::optional<std::string> {
@@ -264,6 +294,18 @@ std::optional<std::string> setObjectField(Scene& scene, int object, const std::s
     m.checkerOrigin += target - p;
     translateShape(o.shape, target - p);
     return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<std::string> setObjectField(Scene& scene, int object, const std::string& field, double value) {
+    if (object < 0 || object >= int(scene.objects.size()))
+        return "no object " + std::to_string(object) + " (the scene has " + std::to_string(scene.objects.size()) + ")";
+    if (!std::isfinite(value)) return "value is not finite";
+    glm::dvec3 before = shapeReferencePoint(scene.objects[object].shape);
+    std::optional<std::string> error = setOneObjectField(scene, object, field, value);
+    if (!error) syncModelParts(scene, object, shapeReferencePoint(scene.objects[object].shape) - before);
+    return error;
 }
 
 void translateShape(Shape& shape, const glm::dvec3& d) {
