@@ -20,12 +20,7 @@ CommandRun runWhitted(const std::string& args, const fs::path& cwd = fs::current
 }
 
 // A fresh, empty folder for one test.
-fs::path scratchDir(const std::string& name) {
-    fs::path dir = outputDir() / "cli" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratchDir(const std::string& name) { return freshOutputDir("cli", name); }
 
 std::string scene(const std::string& name) { return (sourceDir() / "scenes" / name).string(); }
 

@@ -27,12 +27,7 @@ std::vector<float> readBack(const fs::path& path) {
     return pixels;
 }
 
-fs::path freshDir(const std::string& name) {
-    fs::path dir = outputDir() / "images" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path freshDir(const std::string& name) { return freshOutputDir("images", name); }
 
 TEST(ImageOutput, PngIsSrgbEncoded) {
     fs::path dir = freshDir("srgb");

@@ -17,12 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratchDir(const std::string& name) {
-    fs::path dir = outputDir() / "pipeline_cache" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratchDir(const std::string& name) { return freshOutputDir("pipeline_cache", name); }
 
 // Sets environment variables for one scope and restores them after.
 class ScopedEnvironment {

@@ -17,12 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path scratchDir(const std::string& name) {
-    fs::path dir = outputDir() / "quick_look" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratchDir(const std::string& name) { return freshOutputDir("quick_look", name); }
 
 std::string readText(const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
@@ -48,7 +43,7 @@ TEST(QuickLook, SceneFilesAreTheXmlOnes) {
 // central part of the image and touch no border. Our test meshes, and glTF
 // binaries (y up) from Debian's assimp-testmodels (tools/install_deps.sh).
 TEST(QuickLook, ModelIsInFrame) {
-    const fs::path meshes = sourceDir() / "tests" / "meshes", gltf = "/usr/share/assimp/models/glTF2";
+    const fs::path meshes = sourceDir() / "tests" / "meshes", gltf = assimpTestModel("glTF2");
     for (fs::path model : {meshes / "pyramid.obj", meshes / "pyramid.ply", meshes / "uv_sphere_12x24.obj",
                            gltf / "BoxTextured-glTF-Binary" / "BoxTextured.glb",
                            gltf / "2CylinderEngine-glTF-Binary" / "2CylinderEngine.glb"}) {
@@ -130,7 +125,7 @@ TEST(QuickLook, WrittenSceneRendersTheSameImage) {
 // materials back: the same objects and the same image.
 TEST(QuickLook, WrittenSceneKeepsTheModelsMaterials) {
     fs::path dir = scratchDir("materials");
-    const fs::path model = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+    const fs::path model = assimpTestModel("glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
     ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
     fs::copy_file(model, dir / "box.glb");
     Scene scene = quickLookScene(dir / "box.glb");
@@ -153,7 +148,7 @@ TEST(QuickLook, WrittenSceneKeepsTheModelsMaterials) {
 // all, so the written scene, which names the file once, reloads as shown.
 TEST(QuickLook, PartsOfOneModelAreEditedTogether) {
     fs::path dir = scratchDir("parts");
-    const fs::path model = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+    const fs::path model = assimpTestModel("glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb");
     ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
     fs::copy_file(model, dir / "engine.glb");
     Scene scene = quickLookScene(dir / "engine.glb");

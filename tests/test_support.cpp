@@ -56,6 +56,17 @@ std::filesystem::path outputDir() {
     return dir;
 }
 
+std::filesystem::path freshOutputDir(const std::string& group, const std::string& name) {
+    std::filesystem::path dir = outputDir() / group / name;
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+std::filesystem::path assimpTestModel(const std::string& relative) {
+    return std::filesystem::path("/usr/share/assimp/models") / relative;
+}
+
 void expectGoldenMatch(const std::filesystem::path& got, const std::filesystem::path& want,
                        const std::filesystem::path& diffPath, const std::string& what) {
     constexpr double kMaxMeanLevels = 0.5;

@@ -31,6 +31,11 @@ CommandRun runCommand(const std::string& command, const std::filesystem::path& c
 
 std::filesystem::path sourceDir();
 std::filesystem::path outputDir();  // created on demand, for diff images
+// outputDir()/group/name, emptied and created: a test's scratch folder.
+std::filesystem::path freshOutputDir(const std::string& group, const std::string& name);
+// A model of Debian's assimp-testmodels (tools/install_deps.sh) by its path
+// under /usr/share/assimp/models, e.g. "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb".
+std::filesystem::path assimpTestModel(const std::string& relative);
 
 // The golden-image metric between two 8-bit image files of the same size:
 // mean absolute difference in 8-bit levels over all channels, and the

@@ -438,7 +438,7 @@ TEST(NormalMap, ModelFileTangentsCarryTheTilt) {
 // Khronos' BoxTextured sample in Debian's assimp-testmodels package (see
 // tools/install_deps.sh): a cube whose glTF material has a base-colour
 // texture (the Cesium logo: white, blue and green) embedded in the GLB.
-const fs::path kBoxTextured = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+const fs::path kBoxTextured = assimpTestModel("glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
 
 std::string boxXml(const std::string& colour) {
     return R"(<scene>
@@ -569,7 +569,7 @@ TEST(ViewTexture, TextureFileHotReloadsAndScaleEdits) {
 // colour of the scene's own, the parts of the model whose material has one
 // get it as their normal map, read as linear data (not sRGB-decoded).
 TEST(ModelMaterials, GltfNormalTextureBecomesTheNormalMap) {
-    const fs::path model = "/usr/share/assimp/models/glTF2/ClearCoat-glTF/ClearCoatTest.gltf";
+    const fs::path model = assimpTestModel("glTF2/ClearCoat-glTF/ClearCoatTest.gltf");
     ASSERT_TRUE(fs::exists(model)) << model << " is missing: install assimp-testmodels (tools/install_deps.sh)";
     MeshFileData data = readMeshFile(model, MeshFileMaterials::Read);
     int withNormals = 0;

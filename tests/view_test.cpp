@@ -39,12 +39,7 @@ CommandRun runRender(const std::string& args, const fs::path& cwd) {
     return runCommand("'" WHITTED_EXECUTABLE "' render -q --aa uniform " + args, cwd);
 }
 
-fs::path scratchDir(const std::string& name) {
-    fs::path dir = outputDir() / "view" / name;
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+fs::path scratchDir(const std::string& name) { return freshOutputDir("view", name); }
 
 void writeText(const fs::path& path, const std::string& text) {
     std::ofstream(path, std::ios::binary) << text;

@@ -19,6 +19,7 @@
 #include <optional>
 #include <stdexcept>
 #include <system_error>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -662,17 +663,16 @@ private:
     // reported as not applying to the type.
     void readTextures(const std::string& type, ElementReader& properties, Object& object) {
         if (type == "triangle") return;
-        if (const XMLElement* e = properties.optional("diffuse_texture")) {
+        for (auto [name, encoding, target] : {std::tuple("diffuse_texture", TextureEncoding::Colour,
+                                                         &object.material.diffuseTexture),
+                                              std::tuple("normal_map", TextureEncoding::Data,
+                                                         &object.material.normalMap)}) {
+            const XMLElement* e = properties.optional(name);
+            if (!e) continue;
             if (const Mesh* mesh = std::get_if<Mesh>(&object.shape); mesh && mesh->uvs.empty())
-                diag_.fail(e, "<diffuse_texture> on a mesh needs texture coordinates: the mesh file has none, or "
-                              "the <polygon>s have no <uv>");
-            object.material.diffuseTexture = readTexture(e, TextureEncoding::Colour);
-        }
-        if (const XMLElement* e = properties.optional("normal_map")) {
-            if (const Mesh* mesh = std::get_if<Mesh>(&object.shape); mesh && mesh->uvs.empty())
-                diag_.fail(e, "<normal_map> on a mesh needs texture coordinates: the mesh file has none, or "
-                              "the <polygon>s have no <uv>");
-            object.material.normalMap = readTexture(e, TextureEncoding::Data);
+                diag_.fail(e, tag(name) + " on a mesh needs texture coordinates: the mesh file has none, or "
+                                          "the <polygon>s have no <uv>");
+            *target = readTexture(e, encoding);
         }
         if (const XMLElement* e = properties.optional("normal_strength")) {
             if (!object.material.normalMap)
