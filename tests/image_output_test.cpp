@@ -1,6 +1,7 @@
 // Files written from a render: encodings, tone mapping, names, atomicity.
 #include "io/aov_output.h"
 #include "io/image_io.h"
+#include "io/image_library.h"
 #include "test_support.h"
 
 #include <cmath>
@@ -76,6 +77,50 @@ TEST(ImageOutput, FailedWriteLeavesNothingBehind) {
     std::vector<fs::path> files;
     for (const auto& e : fs::directory_iterator(dir)) files.push_back(e.path().filename());
     EXPECT_EQ(files, (std::vector<fs::path>{"b.png"})) << "no temporary file left";
+}
+
+}  // namespace
+}  // namespace whitted::test
+
+namespace whitted::test {
+namespace {
+
+// OpenImageIO is a module loaded at run time (host/io/image_library.h), not
+// a library the executable needs at start: linked, it cost every process
+// 0.17 s in the dynamic loader.
+TEST(ImageLibrary, ExecutableDoesNotLinkOpenImageIO) {
+    CommandRun run = runCommand("readelf -d '" WHITTED_EXECUTABLE "'", sourceDir());
+    ASSERT_EQ(run.status, 0) << run.output;
+    EXPECT_NE(run.output.find("(NEEDED)"), std::string::npos) << run.output;   // the listing was read
+    EXPECT_NE(run.output.find("libvulkan"), std::string::npos) << run.output;  // and lists the libraries
+    EXPECT_EQ(run.output.find("OpenImageIO"), std::string::npos) << run.output;
+}
+
+TEST(ImageLibrary, LoadsOnceAndKnowsTheFormats) {
+    preloadImageLibrary();
+    const ImageLibrary& library = imageLibrary();
+    EXPECT_EQ(&library, &imageLibrary());
+    EXPECT_TRUE(library.canWrite("x.png"));
+    EXPECT_TRUE(library.canWrite("x.exr"));
+    EXPECT_FALSE(library.canWrite("x.notanimageformat"));
+    std::string error;
+    EXPECT_EQ(library.openWriter((outputDir() / "no-such-folder" / "x.png").string(),
+                                 ImageFileSpec{.width = 1, .height = 1, .channels = 3, .window = {}}, error),
+              nullptr);
+    EXPECT_FALSE(error.empty());
+}
+
+// A render writes its image with the module loaded on another thread
+// while the pipeline is built; a wrong extension is still refused, exit 2,
+// and nothing is written.
+TEST(ImageLibrary, RenderCommandRefusesAnUnknownFormatAndWritesNothing) {
+    fs::path dir = freshOutputDir("image_library", "unknown_format");
+    CommandRun run = runCommand("'" WHITTED_EXECUTABLE "' render scenes/room.xml --width 8 --height 6 -q -o '" +
+                                    (dir / "x.notanimageformat").string() + "'",
+                                sourceDir());
+    EXPECT_EQ(run.status, 2) << run.output;
+    EXPECT_NE(run.output.find("cannot write images of type '.notanimageformat'"), std::string::npos) << run.output;
+    EXPECT_TRUE(fs::is_empty(dir));
 }
 
 }  // namespace

@@ -1,9 +1,10 @@
 #include "io/image_io.h"
 
-#include <OpenImageIO/imageio.h>
+#include "io/image_library.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <unistd.h>
@@ -31,10 +32,8 @@ bool isFloatFormat(const std::filesystem::path& path) {
 }
 
 bool isWritableFormat(const std::filesystem::path& path) {
-    std::string ext = lowerExtension(path);
-    if (ext.empty()) return false;
-    auto out = OIIO::ImageOutput::create(path.string());
-    return out != nullptr;
+    if (lowerExtension(path).empty()) return false;
+    return imageLibrary().canWrite(path.string());
 }
 
 unsigned char encode8(float v, PixelEncoding encoding) {
@@ -43,7 +42,7 @@ unsigned char encode8(float v, PixelEncoding encoding) {
 }
 
 struct ImageStreamWriter::Output {
-    std::unique_ptr<OIIO::ImageOutput> image;
+    std::unique_ptr<ImageFileWriter> file;
 };
 
 ImageStreamWriter::ImageStreamWriter(const std::filesystem::path& path, int width, int height, int channels,
@@ -54,25 +53,11 @@ ImageStreamWriter::ImageStreamWriter(const std::filesystem::path& path, int widt
     // atomic) with the same extension (OpenImageIO picks the format by it).
     temporary_ = path.parent_path() /
                  ("." + path.stem().string() + ".partial-" + std::to_string(::getpid()) + path.extension().string());
-    out_->image = OIIO::ImageOutput::create(temporary_.string());
-    if (!out_->image) throw std::runtime_error(path.string() + ": no image writer for this file extension");
-    OIIO::ImageSpec spec(width, height, channels, isFloat_ ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-    if (!isFloat_ && encoding == PixelEncoding::Srgb8) spec.attribute("oiio:ColorSpace", "sRGB");
-    if (isFloat_) {
-        spec.attribute("compression", "zip");
-        if (window.fullWidth > 0) {
-            spec.x = window.x0;
-            spec.y = window.y0;
-            spec.full_x = 0;
-            spec.full_y = 0;
-            spec.full_width = window.fullWidth;
-            spec.full_height = window.fullHeight;
-            y0_ = window.y0;
-        }
-    }
-    if (!out_->image->open(temporary_.string(), spec)) {
-        std::string error = out_->image->geterror();
-        out_->image.reset();
+    ImageFileSpec spec{.width = width, .height = height, .channels = channels, .floatPixels = isFloat_,
+                       .srgb = encoding == PixelEncoding::Srgb8, .window = window};
+    std::string error;
+    out_->file = imageLibrary().openWriter(temporary_.string(), spec, error);
+    if (!out_->file) {
         std::error_code ignored;
         std::filesystem::remove(temporary_, ignored);
         throw std::runtime_error(path.string() + ": cannot write image: " + error);
@@ -81,25 +66,27 @@ ImageStreamWriter::ImageStreamWriter(const std::filesystem::path& path, int widt
 
 ImageStreamWriter::~ImageStreamWriter() {
     if (committed_) return;
-    if (out_->image) out_->image->close();
+    out_->file.reset();  // closes it
     std::error_code ignored;
     std::filesystem::remove(temporary_, ignored);
 }
 
 void ImageStreamWriter::writeRows(int row, int rows, std::span<const float> pixels) {
+    std::string error;
     bool ok;
     if (isFloat_) {
-        ok = out_->image->write_scanlines(y0_ + row, y0_ + row + rows, 0, OIIO::TypeDesc::FLOAT, pixels.data());
+        ok = out_->file->writeRows(row, row + rows, pixels.data(), error);
     } else {
         bytes_.resize(pixels.size());
         for (size_t i = 0; i < pixels.size(); ++i) bytes_[i] = encode8(pixels[i], encoding_);
-        ok = out_->image->write_scanlines(row, row + rows, 0, OIIO::TypeDesc::UINT8, bytes_.data());
+        ok = out_->file->writeRows(row, row + rows, bytes_.data(), error);
     }
-    if (!ok) throw std::runtime_error(path_.string() + ": cannot write image: " + out_->image->geterror());
+    if (!ok) throw std::runtime_error(path_.string() + ": cannot write image: " + error);
 }
 
 void ImageStreamWriter::commit() {
-    if (!out_->image->close()) throw std::runtime_error(path_.string() + ": cannot write image: " + out_->image->geterror());
+    std::string error;
+    if (!out_->file->close(error)) throw std::runtime_error(path_.string() + ": cannot write image: " + error);
     std::error_code ec;
     std::filesystem::rename(temporary_, path_, ec);
     if (ec) throw std::runtime_error(path_.string() + ": cannot write image: " + ec.message());
@@ -115,15 +102,14 @@ void writeImage(const std::filesystem::path& path, int width, int height, int ch
 
 std::span<const float> readImageInto(const std::filesystem::path& path, int& width, int& height, int& channels,
                                      std::vector<float>& storage) {
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) throw std::runtime_error(path.string() + ": cannot read image: " + OIIO::geterror());
-    const OIIO::ImageSpec& spec = in->spec();
-    width = spec.width;
-    height = spec.height;
-    channels = spec.nchannels;
-    storage.resize(size_t(width) * height * channels);
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, storage.data()))
-        throw std::runtime_error(path.string() + ": cannot read image: " + in->geterror());
+    DecodedImage image;
+    std::string error;
+    if (!imageLibrary().read(path.string(), std::numeric_limits<int>::max(), image, error))
+        throw std::runtime_error(path.string() + ": cannot read image: " + error);
+    width = image.width;
+    height = image.height;
+    channels = image.channels;
+    storage = std::move(image.pixels);
     return storage;
 }
 

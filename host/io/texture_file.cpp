@@ -1,11 +1,11 @@
 #include "io/texture_file.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
+#include "io/image_library.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <functional>
 #include <glm/gtc/packing.hpp>
 #include <memory>
 #include <system_error>
@@ -55,25 +55,18 @@ std::vector<TextureLevel> buildLevels(int width, int height, std::vector<float> 
     return levels;
 }
 
-TextureData readOpened(OIIO::ImageInput& in, TextureEncoding encoding, const std::string& name) {
-    const OIIO::ImageSpec& spec = in.spec();
-    if (spec.width < 1 || spec.height < 1 || spec.width > kMaxTextureSize || spec.height > kMaxTextureSize)
-        throw TextureFileError("is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+// A texture from a decoded file, or TextureFileError.
+TextureData fromDecoded(const DecodedImage& image, TextureEncoding encoding, const std::string& name) {
+    if (image.width < 1 || image.height < 1 || image.width > kMaxTextureSize || image.height > kMaxTextureSize)
+        throw TextureFileError("is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                                "; a texture must be 1 to 16384 texels on each side");
-    int channels = spec.nchannels;
-    std::vector<float> stored(size_t(spec.width) * spec.height * channels);
-    if (!in.read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, stored.data())) {
-        std::string reason = in.geterror();
-        throw TextureFileError("could not be read: " +
-                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
-    }
-    bool floatFile = spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF ||
-                     spec.format.basetype == OIIO::TypeDesc::DOUBLE;
-    bool decode = encoding == TextureEncoding::Colour && !floatFile &&
-                  !isLinearColourSpace(spec.get_string_attribute("oiio:ColorSpace"));
+    if (image.channels < 1 || image.pixels.empty()) throw TextureFileError("has no channels");
+    int channels = image.channels;
+    const std::vector<float>& stored = image.pixels;
+    bool decode = encoding == TextureEncoding::Colour && !image.floatFile && !isLinearColourSpace(image.colourSpace);
 
     // RGBA: grey fills r, g and b; a missing alpha is 1.
-    size_t texels = size_t(spec.width) * spec.height;
+    size_t texels = size_t(image.width) * image.height;
     std::vector<float> rgba(texels * 4);
     for (size_t i = 0; i < texels; ++i) {
         const float* s = &stored[i * channels];
@@ -94,8 +87,17 @@ TextureData readOpened(OIIO::ImageInput& in, TextureEncoding encoding, const std
     TextureData data;
     data.name = name;
     data.srgbDecoded = decode;
-    data.levels = buildLevels(spec.width, spec.height, std::move(rgba));
+    data.levels = buildLevels(image.width, image.height, std::move(rgba));
     return data;
+}
+
+// Reads through the image module; its reason when it can't.
+TextureData readDecoded(const std::function<bool(DecodedImage&, std::string&)>& read, TextureEncoding encoding,
+                        const std::string& name) {
+    DecodedImage image;
+    std::string reason;
+    if (!read(image, reason)) throw TextureFileError("could not be read: " + reason);
+    return fromDecoded(image, encoding, name);
 }
 
 }  // namespace
@@ -104,13 +106,10 @@ TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding e
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw TextureFileError("does not exist");
     if (std::filesystem::is_directory(path, ec)) throw TextureFileError("is a directory, expected an image file");
-    auto in = OIIO::ImageInput::open(path.string());
-    if (!in) {
-        std::string reason = OIIO::geterror();
-        throw TextureFileError("could not be read: " +
-                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
-    }
-    return readOpened(*in, encoding, path.string());
+    const ImageLibrary& library = imageLibrary();
+    return readDecoded([&](DecodedImage& image, std::string& reason) {
+        return library.read(path.string(), kMaxTextureSize, image, reason);
+    }, encoding, path.string());
 }
 
 TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::string& hint, TextureEncoding encoding,
@@ -120,20 +119,10 @@ TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::s
     if (format.empty() && bytes.size() >= 4 && bytes[0] == 0x89 && bytes[1] == 'P' && bytes[2] == 'N') format = "png";
     if (format.empty() && bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8) format = "jpg";
     if (format.empty()) throw TextureFileError("is in a format that was not recognised (expected PNG or JPEG)");
-    OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes.data()), bytes.size());
-    auto in = OIIO::ImageInput::create(format);
-    OIIO::ImageSpec spec;
-    if (in && (!in->set_ioproxy(&reader) || !in->open("embedded." + format, spec))) {
-        std::string reason = in->geterror();
-        throw TextureFileError("could not be read: " +
-                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
-    }
-    if (!in) {
-        std::string reason = OIIO::geterror();
-        throw TextureFileError("could not be read: " +
-                               (reason.empty() ? std::string("OpenImageIO gave no reason") : reason));
-    }
-    return readOpened(*in, encoding, name);
+    const ImageLibrary& library = imageLibrary();
+    return readDecoded([&](DecodedImage& image, std::string& reason) {
+        return library.readMemory(bytes, format, kMaxTextureSize, image, reason);
+    }, encoding, name);
 }
 
 TextureData textureFromPixels(int width, int height, std::span<const float> rgba, const std::string& name) {
