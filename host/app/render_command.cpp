@@ -3,7 +3,6 @@
 #include "app/progress_bar.h"
 #include "app/quick_look.h"
 #include "io/image_io.h"
-#include "io/image_library.h"
 #include "io/render_record.h"
 #include "render/multi_device.h"
 #include "render/renderer.h"
@@ -23,8 +22,9 @@ namespace whitted {
 namespace {
 
 // Refuses an output that can't be written before any work is done: its
-// place at once, its format once the image module is loaded (after the
-// pipeline is built, before any tracing).
+// place at once, its format after the pipeline is built (before any
+// tracing), where asking OpenImageIO loads its module
+// (host/io/image_library.h).
 std::optional<std::string> checkOutputPlace(const std::filesystem::path& path) {
     std::filesystem::path parent = path.parent_path().empty() ? "." : path.parent_path();
     if (!std::filesystem::is_directory(parent)) return "output folder " + parent.string() + " does not exist";
@@ -100,8 +100,6 @@ int runRenderCommand(const RenderCommandOptions& options) {
         const DeviceInfo& d = contexts.back()->deviceInfo();
         if (!options.quiet) std::cerr << "whitted: device " << d.name << " (" << d.type << ", " << d.driver << ")\n";
     }
-    // The image module loads on the other core while the pipeline is built.
-    preloadImageLibrary();
     VulkanContext& ctx = *contexts.front();
     auto validationMessages = [&] {
         uint32_t n = 0;

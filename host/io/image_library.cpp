@@ -1,11 +1,10 @@
 #include "io/image_library.h"
 
 #include <dlfcn.h>
-#include <unistd.h>
 
 #include <filesystem>
-#include <future>
-#include <mutex>
+#include <string>
+#include <vector>
 #include <stdexcept>
 
 namespace whitted {
@@ -45,34 +44,19 @@ Loaded load() {
 }
 #endif
 
-// The load, once per process: started ahead by preloadImageLibrary, or run
-// by the first imageLibrary() (deferred).
-struct Pending {
-    std::mutex mutex;
-    std::shared_future<Loaded> loaded;
-};
-
-Pending& pending() {
-    static Pending p;
-    return p;
-}
-
-std::shared_future<Loaded> start(std::launch policy) {
-    Pending& p = pending();
-    std::lock_guard lock(p.mutex);
-    if (!p.loaded.valid()) p.loaded = std::async(policy, load).share();
-    return p.loaded;
+// The load, once per process (the dynamic loader's state is per process).
+const Loaded& loaded() {
+    static const Loaded result = load();
+    return result;
 }
 
 }  // namespace
 
 const ImageLibrary& imageLibrary() {
-    const Loaded& loaded = start(std::launch::deferred).get();
-    if (!loaded.library)
-        throw std::runtime_error("cannot load the image file module (OpenImageIO):" + loaded.error);
-    return *loaded.library;
+    const Loaded& result = loaded();
+    if (!result.library)
+        throw std::runtime_error("cannot load the image file module (OpenImageIO):" + result.error);
+    return *result.library;
 }
-
-void preloadImageLibrary() { start(std::launch::async); }
 
 }  // namespace whitted

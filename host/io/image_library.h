@@ -1,14 +1,14 @@
 // OpenImageIO behind a module of its own (whitted_image_io.so), loaded when
-// an image file is first read or written, or ahead of that on a second
-// thread (preloadImageLibrary).
+// an image file is first read or written.
 //
 // Why: Debian's OpenImageIO links some 260 shared libraries (OpenCV,
 // FFmpeg, GDAL, DCMTK, ...), all built with BIND_NOW, so a process linked to
 // it spends about 0.17 s in the dynamic loader before main (2-core EPYC,
-// README "Profiling"). A render needs the library only at its end, to write
-// the image; `whitted render` loads the module while lavapipe builds the
-// pipeline, on the other core, and a process that writes no image (a bad
-// scene, `whitted devices`) never loads it.
+// README "Profiling"). A process that writes no image (`whitted view`
+// without textures or screenshots, a refused scene, `whitted devices`) now
+// never pays it. Loading it on a second thread while lavapipe builds the
+// pipeline was tried and dropped: on 2 busy cores the pipeline took 0.25 s
+// longer, more than the load it hid.
 //
 // The dynamic loader's state is per process, so the loaded module is too:
 // imageLibrary() hands out the one instance, loading it on first use.
@@ -74,13 +74,8 @@ public:
 constexpr uint32_t kImageLibraryAbi = 1;
 extern "C" const ImageLibrary* whittedImageLibrary(uint32_t abi);
 
-// The library, loaded now unless loaded already (waits for a load under
-// way). Throws std::runtime_error naming the places tried.
+// The library, loaded now unless loaded already (thread-safe: one load).
+// Throws std::runtime_error naming the places tried.
 const ImageLibrary& imageLibrary();
-
-// Starts loading the library on another thread and returns at once. Call
-// it after the Vulkan instance exists: the dynamic loader loads one library
-// at a time, so a load under way would hold up the Vulkan loader's.
-void preloadImageLibrary();
 
 }  // namespace whitted
