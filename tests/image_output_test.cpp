@@ -109,9 +109,8 @@ TEST(ImageLibrary, LoadsOnceAndKnowsTheFormats) {
     EXPECT_FALSE(error.empty());
 }
 
-// The output's format is checked once the pipeline is built (asking
-// OpenImageIO loads its module): a wrong extension is still refused, exit
-// 2, before any tracing, and nothing is written.
+// Asking the module whether it can write the output's format: a wrong
+// extension is refused before the device starts, exit 2, nothing written.
 TEST(ImageLibrary, RenderCommandRefusesAnUnknownFormatAndWritesNothing) {
     fs::path dir = freshOutputDir("image_library", "unknown_format");
     CommandRun run = runCommand("'" WHITTED_EXECUTABLE "' render scenes/room.xml --width 8 --height 6 -q -o '" +

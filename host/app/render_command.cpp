@@ -21,18 +21,11 @@
 namespace whitted {
 namespace {
 
-// Refuses an output that can't be written before any work is done: its
-// place at once, its format after the pipeline is built (before any
-// tracing), where asking OpenImageIO loads its module
-// (host/io/image_library.h).
-std::optional<std::string> checkOutputPlace(const std::filesystem::path& path) {
+// Refuses an output the image writer can't produce before any work is done.
+std::optional<std::string> checkOutput(const std::filesystem::path& path) {
     std::filesystem::path parent = path.parent_path().empty() ? "." : path.parent_path();
     if (!std::filesystem::is_directory(parent)) return "output folder " + parent.string() + " does not exist";
     if (std::filesystem::is_directory(path)) return "output " + path.string() + " is a folder, expected an image file";
-    return std::nullopt;
-}
-
-std::optional<std::string> checkOutputFormat(const std::filesystem::path& path) {
     if (!isWritableFormat(path))
         return "cannot write images of type '" + path.extension().string() + "' (use .png, .exr, .jpg or .tif)";
     return std::nullopt;
@@ -83,7 +76,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
     double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
     for (const std::string& warning : scene.warnings) std::cerr << "warning: " << warning << "\n";
     if (options.output)
-        if (auto problem = checkOutputPlace(*options.output)) {
+        if (auto problem = checkOutput(*options.output)) {
             std::cerr << "whitted: " << *problem << "\n";
             return kExitBadInput;
         }
@@ -116,11 +109,6 @@ int runRenderCommand(const RenderCommandOptions& options) {
         return kExitBadInput;
     }
     Renderer* renderer = shares.front();
-    if (options.output)
-        if (auto problem = checkOutputFormat(*options.output)) {
-            std::cerr << "whitted: " << *problem << "\n";
-            return kExitBadInput;
-        }
     auto sharedWith = [&] {
         std::vector<DeviceInfo> others;
         for (size_t i = 1; i < contexts.size(); ++i) others.push_back(contexts[i]->deviceInfo());
