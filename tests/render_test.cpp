@@ -510,3 +510,24 @@ TEST(RenderLimits, SceneBeyondTheBufferLimitIsAClearError) {
 
 }  // namespace
 }  // namespace whitted::test
+
+namespace whitted::test {
+namespace {
+
+// The descriptor set's needs against a device's limits: lavapipe has
+// enough; Vulkan's guaranteed minimums do not, and the shortfall is named.
+TEST(DescriptorLimits, LavapipeHasEnoughAndTheMinimumsAreNamedShort) {
+    EXPECT_EQ(descriptorLimitShortfall(testContext().physicalDevice.getProperties().limits), "");
+    vk::PhysicalDeviceLimits minimum = testContext().physicalDevice.getProperties().limits;
+    minimum.maxPerStageDescriptorStorageBuffers = 4;  // the spec's minimum
+    EXPECT_EQ(descriptorLimitShortfall(minimum), "offers 4 storage buffers per shader stage; whitted needs 9");
+    minimum = testContext().physicalDevice.getProperties().limits;
+    minimum.maxPerStageDescriptorSamplers = 16;
+    EXPECT_EQ(descriptorLimitShortfall(minimum), "offers 16 samplers per shader stage; whitted needs 32");
+    minimum = testContext().physicalDevice.getProperties().limits;
+    minimum.maxPerStageResources = 41;
+    EXPECT_EQ(descriptorLimitShortfall(minimum), "offers 41 resources per shader stage; whitted needs 42");
+}
+
+}  // namespace
+}  // namespace whitted::test

@@ -173,6 +173,28 @@ PixelRegion regionFor(const RenderSettings& settings, int width, int height) {
 
 }  // namespace
 
+std::string descriptorLimitShortfall(const vk::PhysicalDeviceLimits& limits) {
+    constexpr uint32_t kUniformBindings = 1;
+    const struct {
+        uint32_t offered, needed;
+        const char* what;
+    } needs[] = {
+        {limits.maxPerStageDescriptorStorageBuffers, kStorageBindings, "storage buffers per shader stage"},
+        {limits.maxDescriptorSetStorageBuffers, kStorageBindings, "storage buffers per descriptor set"},
+        {limits.maxPerStageDescriptorSamplers, gpu::kMaxTextures, "samplers per shader stage"},
+        {limits.maxPerStageDescriptorSampledImages, gpu::kMaxTextures, "sampled images per shader stage"},
+        {limits.maxDescriptorSetSamplers, gpu::kMaxTextures, "samplers per descriptor set"},
+        {limits.maxDescriptorSetSampledImages, gpu::kMaxTextures, "sampled images per descriptor set"},
+        {limits.maxPerStageResources, kUniformBindings + kStorageBindings + gpu::kMaxTextures,
+         "resources per shader stage"},
+    };
+    for (const auto& n : needs)
+        if (n.offered < n.needed)
+            return "offers " + std::to_string(n.offered) + " " + n.what + "; whitted needs " + std::to_string(n.needed);
+    return "";
+}
+
+
 BufferLimits sceneBufferLimits(const VulkanContext& ctx) {
     BufferLimits limits;
     const vk::raii::PhysicalDevice& physical = ctx.physicalDevice;
@@ -260,6 +282,8 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
 // pool of one) that uploadScene() fills.
 void Renderer::buildPipeline() {
     auto start = Clock::now();
+    if (std::string shortfall = descriptorLimitShortfall(ctx_.physicalDevice.getProperties().limits); !shortfall.empty())
+        throw std::runtime_error("device " + ctx_.deviceInfo().name + " " + shortfall);
     specialization_ = specializationFor(ctx_, scene_);
     const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
                                                   {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},

@@ -64,6 +64,13 @@ BufferLimits sceneBufferLimits(const VulkanContext& ctx);
 // Fraction of the work done so far, in [0, 1].
 using ProgressCallback = std::function<void(double)>;
 
+// The descriptor set asks for more than Vulkan guarantees every device (4
+// storage buffers and 16 samplers per stage; desktop GPUs and lavapipe
+// offer far more): what a device with these limits lacks, in words ("offers
+// 4 storage buffers per shader stage; whitted needs 9"), or "" when it has
+// enough. A Renderer refuses such a device before building its pipeline.
+std::string descriptorLimitShortfall(const vk::PhysicalDeviceLimits& limits);
+
 class Renderer {
 public:
     Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings& settings);
