@@ -3,6 +3,7 @@
 #include "app/progress_bar.h"
 #include "app/quick_look.h"
 #include "io/image_io.h"
+#include "io/image_library.h"
 #include "io/render_record.h"
 #include "render/multi_device.h"
 #include "render/renderer.h"
@@ -21,11 +22,17 @@
 namespace whitted {
 namespace {
 
-// Refuses an output the image writer can't produce before any work is done.
-std::optional<std::string> checkOutput(const std::filesystem::path& path) {
+// Refuses an output that can't be written before any work is done: its
+// place at once, its format once the image module is loaded (after the
+// pipeline is built, before any tracing).
+std::optional<std::string> checkOutputPlace(const std::filesystem::path& path) {
     std::filesystem::path parent = path.parent_path().empty() ? "." : path.parent_path();
     if (!std::filesystem::is_directory(parent)) return "output folder " + parent.string() + " does not exist";
     if (std::filesystem::is_directory(path)) return "output " + path.string() + " is a folder, expected an image file";
+    return std::nullopt;
+}
+
+std::optional<std::string> checkOutputFormat(const std::filesystem::path& path) {
     if (!isWritableFormat(path))
         return "cannot write images of type '" + path.extension().string() + "' (use .png, .exr, .jpg or .tif)";
     return std::nullopt;
@@ -76,7 +83,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
     double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
     for (const std::string& warning : scene.warnings) std::cerr << "warning: " << warning << "\n";
     if (options.output)
-        if (auto problem = checkOutput(*options.output)) {
+        if (auto problem = checkOutputPlace(*options.output)) {
             std::cerr << "whitted: " << *problem << "\n";
             return kExitBadInput;
         }
@@ -93,6 +100,8 @@ int runRenderCommand(const RenderCommandOptions& options) {
         const DeviceInfo& d = contexts.back()->deviceInfo();
         if (!options.quiet) std::cerr << "whitted: device " << d.name << " (" << d.type << ", " << d.driver << ")\n";
     }
+    // The image module loads on the other core while the pipeline is built.
+    preloadImageLibrary();
     VulkanContext& ctx = *contexts.front();
     auto validationMessages = [&] {
         uint32_t n = 0;
@@ -109,6 +118,11 @@ int runRenderCommand(const RenderCommandOptions& options) {
         return kExitBadInput;
     }
     Renderer* renderer = shares.front();
+    if (options.output)
+        if (auto problem = checkOutputFormat(*options.output)) {
+            std::cerr << "whitted: " << *problem << "\n";
+            return kExitBadInput;
+        }
     auto sharedWith = [&] {
         std::vector<DeviceInfo> others;
         for (size_t i = 1; i < contexts.size(); ++i) others.push_back(contexts[i]->deviceInfo());

@@ -2,10 +2,13 @@
 
 #include <dlfcn.h>
 
+#include <cstdlib>
+
 #include <filesystem>
-#include <string>
-#include <vector>
+#include <future>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
 
 namespace whitted {
 namespace {
@@ -44,19 +47,43 @@ Loaded load() {
 }
 #endif
 
-// The load, once per process (the dynamic loader's state is per process).
-const Loaded& loaded() {
-    static const Loaded result = load();
-    return result;
+// The load, once per process: started ahead by preloadImageLibrary, or run
+// by the first imageLibrary() (deferred).
+struct Pending {
+    std::mutex mutex;
+    std::shared_future<Loaded> loaded;
+};
+
+Pending& pending() {
+    static Pending p;
+    return p;
+}
+
+std::shared_future<Loaded> startDeferred() {
+    Pending& p = pending();
+    std::lock_guard lock(p.mutex);
+    if (!p.loaded.valid()) p.loaded = std::async(std::launch::deferred, load).share();
+    return p.loaded;
 }
 
 }  // namespace
 
 const ImageLibrary& imageLibrary() {
-    const Loaded& result = loaded();
-    if (!result.library)
-        throw std::runtime_error("cannot load the image file module (OpenImageIO):" + result.error);
-    return *result.library;
+    const Loaded& loaded = startDeferred().get();
+    if (!loaded.library)
+        throw std::runtime_error("cannot load the image file module (OpenImageIO):" + loaded.error);
+    return *loaded.library;
+}
+
+bool preloadImageLibrary() {
+    // A core to spare: the 1-minute load average below the cores less one.
+    double average = 0.0;
+    unsigned cores = std::thread::hardware_concurrency();
+    if (getloadavg(&average, 1) != 1 || cores == 0 || average + 1.0 > double(cores)) return false;
+    Pending& p = pending();
+    std::lock_guard lock(p.mutex);
+    if (!p.loaded.valid()) p.loaded = std::async(std::launch::async, load).share();
+    return true;
 }
 
 }  // namespace whitted

@@ -1,14 +1,17 @@
 // OpenImageIO behind a module of its own (whitted_image_io.so), loaded when
-// an image file is first read or written.
+// an image file is first read or written, or ahead of that on a second
+// thread (preloadImageLibrary).
 //
 // Why: Debian's OpenImageIO links some 260 shared libraries (OpenCV,
 // FFmpeg, GDAL, DCMTK, ...), all built with BIND_NOW, so a process linked to
-// it spends about 0.17 s in the dynamic loader before main (2-core EPYC,
+// it spent about 0.17 s in the dynamic loader before main (2-core EPYC,
 // README "Profiling"). A process that writes no image (`whitted view`
 // without textures or screenshots, a refused scene, `whitted devices`) now
-// never pays it. Loading it on a second thread while lavapipe builds the
-// pipeline was tried and dropped: on 2 busy cores the pipeline took 0.25 s
-// longer, more than the load it hid.
+// never pays it, and `whitted render` loads it on a second thread while
+// lavapipe builds the pipeline when a core is idle: 0.14 s sooner done on
+// an idle 2-core machine. On a busy one the load held up the pipeline build
+// (0.25 s; lowering the thread's priority did not help, so it is waiting
+// on the loader's locks, not for a core), hence the condition.
 //
 // The dynamic loader's state is per process, so the loaded module is too:
 // imageLibrary() hands out the one instance, loading it on first use.
@@ -74,8 +77,15 @@ public:
 constexpr uint32_t kImageLibraryAbi = 1;
 extern "C" const ImageLibrary* whittedImageLibrary(uint32_t abi);
 
-// The library, loaded now unless loaded already (thread-safe: one load).
-// Throws std::runtime_error naming the places tried.
+// The library, loaded now unless loaded already (waits for a load under
+// way). Throws std::runtime_error naming the places tried.
 const ImageLibrary& imageLibrary();
+
+// Starts loading the library on another thread and returns at once (true),
+// when a core is idle: the 1-minute load average is below the cores less
+// one; else does nothing (false) and the first use loads it. Call it after
+// the Vulkan instance exists: the dynamic loader loads one library at a
+// time, so a load under way would hold up the Vulkan loader's.
+bool preloadImageLibrary();
 
 }  // namespace whitted
