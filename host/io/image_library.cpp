@@ -2,7 +2,8 @@
 
 #include <dlfcn.h>
 
-#include <cstdlib>
+#include <fstream>
+#include <limits>
 
 #include <filesystem>
 #include <future>
@@ -66,6 +67,19 @@ std::shared_future<Loaded> startDeferred() {
     return p.loaded;
 }
 
+// Threads running or ready to run on the machine now, this one included
+// (Linux: /proc/stat's procs_running); a large number when unknown.
+unsigned runnableThreads() {
+    std::ifstream in("/proc/stat");
+    std::string key;
+    unsigned count = 0;
+    while (in >> key) {
+        if (key == "procs_running" && in >> count) return count;
+        in.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+    }
+    return std::numeric_limits<unsigned>::max();
+}
+
 }  // namespace
 
 const ImageLibrary& imageLibrary() {
@@ -76,10 +90,7 @@ const ImageLibrary& imageLibrary() {
 }
 
 bool preloadImageLibrary() {
-    // A core to spare: the 1-minute load average below the cores less one.
-    double average = 0.0;
-    unsigned cores = std::thread::hardware_concurrency();
-    if (getloadavg(&average, 1) != 1 || cores == 0 || average + 1.0 > double(cores)) return false;
+    if (runnableThreads() >= std::thread::hardware_concurrency()) return false;
     Pending& p = pending();
     std::lock_guard lock(p.mutex);
     if (!p.loaded.valid()) p.loaded = std::async(std::launch::async, load).share();

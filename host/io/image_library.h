@@ -11,7 +11,8 @@
 // lavapipe builds the pipeline when a core is idle: 0.14 s sooner done on
 // an idle 2-core machine. On a busy one the load held up the pipeline build
 // (0.25 s; lowering the thread's priority did not help, so it is waiting
-// on the loader's locks, not for a core), hence the condition.
+// on the loader's locks, not for a core), hence the condition on an idle
+// core at that moment.
 //
 // The dynamic loader's state is per process, so the loaded module is too:
 // imageLibrary() hands out the one instance, loading it on first use.
@@ -82,8 +83,9 @@ extern "C" const ImageLibrary* whittedImageLibrary(uint32_t abi);
 const ImageLibrary& imageLibrary();
 
 // Starts loading the library on another thread and returns at once (true),
-// when a core is idle: the 1-minute load average is below the cores less
-// one; else does nothing (false) and the first use loads it. Call it after
+// when a core is idle now: fewer threads running or ready to run than
+// cores (this one included); else does nothing (false) and the first use
+// loads it. Call it after
 // the Vulkan instance exists: the dynamic loader loads one library at a
 // time, so a load under way would hold up the Vulkan loader's.
 bool preloadImageLibrary();
