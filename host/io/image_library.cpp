@@ -20,7 +20,7 @@ struct Loaded {
 };
 
 #ifdef WHITTED_IMAGE_LIBRARY_STATIC
-// Linked in (the fuzzer): nothing to load.
+// Linked in (the fuzzer, the sanitizer build): nothing to load.
 Loaded load() { return {whittedImageLibrary(kImageLibraryAbi), ""}; }
 #else
 // The module beside the executable, then where the build wrote it.
