@@ -117,6 +117,11 @@ WHITTED_CONST uint kMaxDepthLimit = kRayStackSize - 2;
 // Capacity of the BVH traversal stack; the builder limits the tree depth
 // to fit.
 WHITTED_CONST uint kBvhStackSize = 48;
+// The shader walks the tree collapsed to 4 children a node
+// (host/accel/bvh.h, collapseToWide): at most 3 entries pushed for every 2
+// binary levels descended.
+WHITTED_CONST uint kBvhWideStackSize = kBvhStackSize * 3 / 2;
+WHITTED_CONST uint kBvhEmptySlot = 0xffffffffu;  // hi.w of an unused child slot
 
 // Specialization constant ids (shaders/shapes/primitive.glsl, intersect.glsl).
 WHITTED_CONST uint kSpecShapeMask = 0;     // bit (1 << kShape*) set: the BVH holds that shape

@@ -162,7 +162,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     std::vector<Aabb>().swap(bounds);
     Bvh bvh = buildBvh(boundedBounds);
     std::vector<Aabb>().swap(boundedBounds);
-    g.bvhNodes = std::move(bvh.nodes);
+    g.bvhNodes = collapseToWide(bvh.nodes);
     g.bvhStats = bvh.stats;
     // The primitives in place in their final order, without a second copy.
     std::vector<uint32_t>& source = bvh.primitiveOrder;
@@ -207,7 +207,10 @@ SceneArrayCounts countSceneArrays(const Scene& scene) {
             childMaterials += csgOwnMaterialCount(*csg);
         }
     }
-    counts.bvhNodes = std::max<uint64_t>(2 * counts.primitives, 1) - 1;
+    // The 4-wide tree (collapseToWide): 1 + 4 W slots for W wide nodes, and
+    // W <= (2 L - 1) / 3 for L <= primitives leaves (a node with fewer than
+    // four children has leaves only), so at most (8 L - 1) / 3 slots.
+    counts.bvhNodes = counts.primitives == 0 ? 0 : (8 * counts.primitives - 1) / 3;
     counts.primitives += leaves;
     counts.materials = scene.objects.size() + childMaterials;
     counts.lights = scene.lights.size();
