@@ -121,7 +121,12 @@ WHITTED_CONST uint kBvhStackSize = 48;
 // (host/accel/bvh.h, collapseToWide): at most 3 entries pushed for every 2
 // binary levels descended.
 WHITTED_CONST uint kBvhWideStackSize = kBvhStackSize * 3 / 2;
-WHITTED_CONST uint kBvhEmptySlot = 0xffffffffu;  // hi.w of an unused child slot
+// An inner node's lo.w: its first child slot in the low bits, its number
+// of children (2 to 4) minus 2 above kBvhChildCountShift; so a tree has
+// at most kBvhMaxNodes slots.
+WHITTED_CONST uint kBvhChildCountShift = 29u;
+WHITTED_CONST uint kBvhChildIndexMask = (1u << kBvhChildCountShift) - 1u;
+WHITTED_CONST uint kBvhMaxNodes = 1u << kBvhChildCountShift;
 
 // Specialization constant ids (shaders/shapes/primitive.glsl, intersect.glsl).
 WHITTED_CONST uint kSpecShapeMask = 0;     // bit (1 << kShape*) set: the BVH holds that shape

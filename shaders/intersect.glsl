@@ -170,9 +170,9 @@ bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shad
 // halves for all lanes under masks anyway, so an iteration costs one node
 // step plus one primitive test and the iteration count is the most work any
 // lane has, where nested loops pay each inner loop's body at least once per
-// outer iteration. Stack entries are the index of an inner node's first
-// child slot (its four slots are tested next) or kLeafEntry | the leaf's
-// index.
+// outer iteration. Stack entries are an inner node's lo.w (its first child
+// slot and child count, whose boxes are tested next) or kLeafEntry | the
+// leaf's index.
 // Returns false when a shadow ray is blocked.
 const uint kLeafEntry = 0x80000000u;
 const uint kNoEntry = 0xffffffffu;
@@ -228,7 +228,7 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     uint stack[kBvhWideStackSize];
     float stackT[kBvhWideStackSize];  // entry distance of each stacked node (closest hit)
     int top = 0;
-    uint children = kNoEntry;  // first of the four child slots of the inner node to expand next
+    uint children = kNoEntry;  // lo.w of the inner node to expand next: first child slot, child count
     uint prim = 0u, primEnd = 0u;
     if (intersectNodeBounds(bvhWalkNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0) {
         stackT[top] = 0.0;
@@ -246,18 +246,23 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             uint entry = kNoEntry;
             if (children != kNoEntry) {
                 const float kMiss = 3.4e38;  // beyond any tLimit: sorts last
-                BvhNode c0 = bvhWalkNodes[children], c1 = bvhWalkNodes[children + 1u];
-                BvhNode c2 = bvhWalkNodes[children + 2u], c3 = bvhWalkNodes[children + 3u];
+                // Two to four children (the count is in the entry); a slot
+                // past the last is not read: slot 0 is read again, its
+                // distance ignored.
+                uint first = children & kBvhChildIndexMask, count = (children >> kBvhChildCountShift) + 2u;
+                uint s2 = count > 2u ? first + 2u : first, s3 = count > 3u ? first + 3u : first;
+                BvhNode c0 = bvhWalkNodes[first], c1 = bvhWalkNodes[first + 1u];
+                BvhNode c2 = bvhWalkNodes[s2], c3 = bvhWalkNodes[s3];
                 float t0 = intersectNodeBounds(c0, ray.origin, invDir, tLimit);
                 float t1 = intersectNodeBounds(c1, ray.origin, invDir, tLimit);
-                float t2 = floatBitsToUint(c2.hi.w) == kBvhEmptySlot ? -1.0 : intersectNodeBounds(c2, ray.origin, invDir, tLimit);
-                float t3 = floatBitsToUint(c3.hi.w) == kBvhEmptySlot ? -1.0 : intersectNodeBounds(c3, ray.origin, invDir, tLimit);
+                float t2 = count > 2u ? intersectNodeBounds(c2, ray.origin, invDir, tLimit) : -1.0;
+                float t3 = count > 3u ? intersectNodeBounds(c3, ray.origin, invDir, tLimit) : -1.0;
                 t0 = t0 >= 0.0 ? t0 : kMiss;
                 t1 = t1 >= 0.0 ? t1 : kMiss;
                 t2 = t2 >= 0.0 ? t2 : kMiss;
                 t3 = t3 >= 0.0 ? t3 : kMiss;
-                uint e0 = entryOf(c0, children), e1 = entryOf(c1, children + 1u);
-                uint e2 = entryOf(c2, children + 2u), e3 = entryOf(c3, children + 3u);
+                uint e0 = entryOf(c0, first), e1 = entryOf(c1, first + 1u);
+                uint e2 = entryOf(c2, s2), e3 = entryOf(c3, s3);
                 if (!shadow) {
                     // Sorting network on the entry distances (stable: ties
                     // keep slot order).

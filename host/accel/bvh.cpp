@@ -190,8 +190,9 @@ void collapseNode(std::span<const gpu::BvhNode> binary, uint32_t b, uint32_t slo
         children.insert(children.begin() + open + 1, c + 1);
     }
     uint32_t wide = uint32_t(out.size());
-    out[slot].lo.w = std::bit_cast<float>(wide);
-    out.resize(out.size() + 4, gpu::BvhNode{glm::vec4(0.0f), glm::vec4(0.0f, 0.0f, 0.0f, std::bit_cast<float>(gpu::kBvhEmptySlot))});
+    uint32_t count = uint32_t(children.size());
+    out[slot].lo.w = std::bit_cast<float>(((count - 2u) << gpu::kBvhChildCountShift) | wide);
+    out.resize(out.size() + count);
     for (uint32_t k = 0; k < children.size(); ++k) out[wide + k] = binary[children[k]];
     for (uint32_t k = 0; k < children.size(); ++k)
         if (isInner(binary[children[k]])) collapseNode(binary, children[k], wide + k, out);

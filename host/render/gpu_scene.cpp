@@ -163,6 +163,9 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     Bvh bvh = buildBvh(boundedBounds);
     std::vector<Aabb>().swap(boundedBounds);
     g.bvhNodes = collapseToWide(bvh.nodes);
+    if (g.bvhNodes.size() > gpu::kBvhMaxNodes)
+        throw std::runtime_error("the scene's BVH has " + std::to_string(g.bvhNodes.size()) +
+                                 " nodes, more than the shader addresses (" + std::to_string(gpu::kBvhMaxNodes) + ")");
     g.bvhStats = bvh.stats;
     // The primitives in place in their final order, without a second copy.
     std::vector<uint32_t>& source = bvh.primitiveOrder;
@@ -207,10 +210,7 @@ SceneArrayCounts countSceneArrays(const Scene& scene) {
             childMaterials += csgOwnMaterialCount(*csg);
         }
     }
-    // The 4-wide tree (collapseToWide): 1 + 4 W slots for W wide nodes, and
-    // W <= (2 L - 1) / 3 for L <= primitives leaves (a node with fewer than
-    // four children has leaves only), so at most (8 L - 1) / 3 slots.
-    counts.bvhNodes = counts.primitives == 0 ? 0 : (8 * counts.primitives - 1) / 3;
+    counts.bvhNodes = std::max<uint64_t>(2 * counts.primitives, 1) - 1;  // binary or 4-wide (collapseToWide)
     counts.primitives += leaves;
     counts.materials = scene.objects.size() + childMaterials;
     counts.lights = scene.lights.size();
