@@ -189,9 +189,12 @@ struct Light {
 };
 
 // A node of the flattened BVH (host/accel/bvh.h). lo/hi hold the bounds;
-// the w components hold uint bits: an inner node has hi.w = 0 and its two
-// children at lo.w and lo.w + 1; a leaf has hi.w = primitive count > 0 and
-// its primitives at lo.w .. lo.w + count - 1.
+// the w components hold uint bits: an inner node has hi.w = 0 and its
+// children in adjacent slots from lo.w (the builder's binary tree: two, at
+// lo.w and lo.w + 1; the 4-wide tree the shader walks, collapseToWide: two
+// to four, lo.w & kBvhChildIndexMask the first, (lo.w >> kBvhChildCountShift)
+// + 2 their count); a leaf has hi.w = primitive count > 0 and its
+// primitives at lo.w .. lo.w + count - 1.
 struct BvhNode {
     vec4 lo;
     vec4 hi;

@@ -4,10 +4,10 @@
 //
 // Traversal follows the stack-based scheme of Aila and Laine ("Understanding
 // the Efficiency of Ray Traversal on GPUs", HPG 2009) on a 4-wide tree: the
-// host's binary SAH tree collapsed to four children a node
+// host's binary SAH tree collapsed to two to four children a node
 // (host/accel/bvh.h, collapseToWide; the wide traversal of Ylitie, Karras
 // and Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed
-// Wide BVHs", HPG 2017, without their compression). A step tests the four
+// Wide BVHs", HPG 2017, without their compression). A step tests the
 // child boxes, descends into the nearest (a sorting network orders them),
 // pushes the others farthest first; closest-hit rays shrink their interval
 // as hits are found, shadow rays stop at the first opaque hit and take the
