@@ -117,6 +117,16 @@ WHITTED_CONST uint kMaxDepthLimit = kRayStackSize - 2;
 // Capacity of the BVH traversal stack; the builder limits the tree depth
 // to fit.
 WHITTED_CONST uint kBvhStackSize = 48;
+// The shader walks the tree collapsed to 4 children a node
+// (host/accel/bvh.h, collapseToWide): at most 3 entries pushed for every 2
+// binary levels descended.
+WHITTED_CONST uint kBvhWideStackSize = kBvhStackSize * 3 / 2;
+// An inner node's lo.w: its first child slot in the low bits, its number
+// of children (2 to 4) minus 2 above kBvhChildCountShift; so a tree has
+// at most kBvhMaxNodes slots.
+WHITTED_CONST uint kBvhChildCountShift = 29u;
+WHITTED_CONST uint kBvhChildIndexMask = (1u << kBvhChildCountShift) - 1u;
+WHITTED_CONST uint kBvhMaxNodes = 1u << kBvhChildCountShift;
 
 // Specialization constant ids (shaders/shapes/primitive.glsl, intersect.glsl).
 WHITTED_CONST uint kSpecShapeMask = 0;     // bit (1 << kShape*) set: the BVH holds that shape
@@ -179,9 +189,12 @@ struct Light {
 };
 
 // A node of the flattened BVH (host/accel/bvh.h). lo/hi hold the bounds;
-// the w components hold uint bits: an inner node has hi.w = 0 and its two
-// children at lo.w and lo.w + 1; a leaf has hi.w = primitive count > 0 and
-// its primitives at lo.w .. lo.w + count - 1.
+// the w components hold uint bits: an inner node has hi.w = 0 and its
+// children in adjacent slots from lo.w (the builder's binary tree: two, at
+// lo.w and lo.w + 1; the 4-wide tree the shader walks, collapseToWide: two
+// to four, lo.w & kBvhChildIndexMask the first, (lo.w >> kBvhChildCountShift)
+// + 2 their count); a leaf has hi.w = primitive count > 0 and its
+// primitives at lo.w .. lo.w + count - 1.
 struct BvhNode {
     vec4 lo;
     vec4 hi;

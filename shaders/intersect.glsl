@@ -3,9 +3,16 @@
 // through the BVH, unbounded ones (planes) are tested one by one.
 //
 // Traversal follows the stack-based scheme of Aila and Laine ("Understanding
-// the Efficiency of Ray Traversal on GPUs", HPG 2009): test both children's
-// boxes, descend into the nearer, push the farther; closest-hit rays shrink
-// their interval as hits are found, shadow rays stop at the first opaque hit.
+// the Efficiency of Ray Traversal on GPUs", HPG 2009) on a 4-wide tree: the
+// host's binary SAH tree collapsed to two to four children a node
+// (host/accel/bvh.h, collapseToWide; the wide traversal of Ylitie, Karras
+// and Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed
+// Wide BVHs", HPG 2017, without their compression). A step tests the
+// child boxes, descends into the nearest (a sorting network orders them),
+// pushes the others farthest first; closest-hit rays shrink their interval
+// as hits are found, shadow rays stop at the first opaque hit and take the
+// children in slot order. On lavapipe a step gathers four nodes instead of
+// two, but a walk takes about half the steps (README, "Profiling").
 // Stacked entries keep their entry distance, and a closest-hit ray drops a
 // popped entry that lies behind its nearest hit so far, as Embree's
 // traversal does (Wald et al., "Embree: A Kernel Framework for Efficient CPU
@@ -163,8 +170,9 @@ bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shad
 // halves for all lanes under masks anyway, so an iteration costs one node
 // step plus one primitive test and the iteration count is the most work any
 // lane has, where nested loops pay each inner loop's body at least once per
-// outer iteration. Stack entries are the index of an inner node's first
-// child (its children are tested next) or kLeafEntry | the leaf's index.
+// outer iteration. Stack entries are an inner node's lo.w (its first child
+// slot and child count, whose boxes are tested next) or kLeafEntry | the
+// leaf's index.
 // Returns false when a shadow ray is blocked.
 const uint kLeafEntry = 0x80000000u;
 const uint kNoEntry = 0xffffffffu;
@@ -217,10 +225,10 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     bool blocked = false;
 
     vec3 invDir = safeInverse(ray.dir);
-    uint stack[kBvhStackSize];
-    float stackT[kBvhStackSize];  // entry distance of each stacked node (closest hit)
+    uint stack[kBvhWideStackSize];
+    float stackT[kBvhWideStackSize];  // entry distance of each stacked node (closest hit)
     int top = 0;
-    uint children = kNoEntry;  // first child of the inner node to expand next
+    uint children = kNoEntry;  // lo.w of the inner node to expand next: first child slot, child count
     uint prim = 0u, primEnd = 0u;
     if (intersectNodeBounds(bvhWalkNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0) {
         stackT[top] = 0.0;
@@ -230,25 +238,52 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     bool running = true;
     while (running) {
         if (prim >= primEnd) {
-            // Traversal step: expand the inner node (nearer child first for
-            // closest hits, the farther one pushed) or pop.
+            // Traversal step: test the four child boxes of the inner node,
+            // go on with the nearest hit one (closest hit; shadow rays: the
+            // first in slot order) and push the others, farthest first, or
+            // pop.
             float tLimit = shadow ? tMax : hit.t;
             uint entry = kNoEntry;
             if (children != kNoEntry) {
-                BvhNode left = bvhWalkNodes[children], right = bvhWalkNodes[children + 1u];
-                float tLeft = intersectNodeBounds(left, ray.origin, invDir, tLimit);
-                float tRight = intersectNodeBounds(right, ray.origin, invDir, tLimit);
-                uint leftEntry = entryOf(left, children), rightEntry = entryOf(right, children + 1u);
-                if (tLeft >= 0.0 && tRight >= 0.0) {
-                    bool leftFirst = shadow || tLeft <= tRight;
-                    if (!shadow) stackT[top] = leftFirst ? tRight : tLeft;
-                    stack[top++] = leftFirst ? rightEntry : leftEntry;
-                    entry = leftFirst ? leftEntry : rightEntry;
-                } else if (tLeft >= 0.0) {
-                    entry = leftEntry;
-                } else if (tRight >= 0.0) {
-                    entry = rightEntry;
+                const float kMiss = 3.4e38;  // beyond any tLimit: sorts last
+                // Two to four children (the count is in the entry); a slot
+                // past the last is not read: slot 0 is read again, its
+                // distance ignored.
+                uint first = children & kBvhChildIndexMask, count = (children >> kBvhChildCountShift) + 2u;
+                uint s2 = count > 2u ? first + 2u : first, s3 = count > 3u ? first + 3u : first;
+                BvhNode c0 = bvhWalkNodes[first], c1 = bvhWalkNodes[first + 1u];
+                BvhNode c2 = bvhWalkNodes[s2], c3 = bvhWalkNodes[s3];
+                float t0 = intersectNodeBounds(c0, ray.origin, invDir, tLimit);
+                float t1 = intersectNodeBounds(c1, ray.origin, invDir, tLimit);
+                float t2 = count > 2u ? intersectNodeBounds(c2, ray.origin, invDir, tLimit) : -1.0;
+                float t3 = count > 3u ? intersectNodeBounds(c3, ray.origin, invDir, tLimit) : -1.0;
+                t0 = t0 >= 0.0 ? t0 : kMiss;
+                t1 = t1 >= 0.0 ? t1 : kMiss;
+                t2 = t2 >= 0.0 ? t2 : kMiss;
+                t3 = t3 >= 0.0 ? t3 : kMiss;
+                uint e0 = entryOf(c0, first), e1 = entryOf(c1, first + 1u);
+                uint e2 = entryOf(c2, s2), e3 = entryOf(c3, s3);
+                if (!shadow) {
+                    // Sorting network on the entry distances (stable: ties
+                    // keep slot order).
+#define WHITTED_SORT2(ta, ea, tb, eb) { bool swap = tb < ta; float tt = ta; uint et = ea; \
+                    ta = swap ? tb : ta; ea = swap ? eb : ea; tb = swap ? tt : tb; eb = swap ? et : eb; }
+                    WHITTED_SORT2(t0, e0, t1, e1)
+                    WHITTED_SORT2(t2, e2, t3, e3)
+                    WHITTED_SORT2(t0, e0, t2, e2)
+                    WHITTED_SORT2(t1, e1, t3, e3)
+                    WHITTED_SORT2(t1, e1, t2, e2)
+#undef WHITTED_SORT2
+                } else {
+                    // Any hit child first: the first one in slot order.
+                    bool swap = t0 == kMiss;
+                    float tt = t0; uint et = e0;
+                    t0 = swap ? t1 : t0; e0 = swap ? e1 : e0; t1 = swap ? tt : t1; e1 = swap ? et : e1;
                 }
+                if (t3 < kMiss) { stackT[top] = t3; stack[top++] = e3; }
+                if (t2 < kMiss) { stackT[top] = t2; stack[top++] = e2; }
+                if (t1 < kMiss) { stackT[top] = t1; stack[top++] = e1; }
+                entry = t0 < kMiss ? e0 : kNoEntry;
             }
             bool culled = false;
             if (entry == kNoEntry && top > 0) {

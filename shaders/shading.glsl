@@ -23,6 +23,9 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
     s.shadowRays = 0u;
     float kd = m.coefs0.y, ks = m.coefs0.z, shininess = m.coefs0.w;
     uint lightCount = params.sizes.w;
+#ifdef WHITTED_PROFILE_NO_LIGHTS  // tools/profile_shader.sh: ambient only, no light loop
+    lightCount = 0u;
+#endif
     for (uint i = 0u; i < lightCount; ++i) {
         vec3 toLight = lights[i].position.xyz - p;
         float dist = length(toLight);

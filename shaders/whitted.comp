@@ -4,6 +4,8 @@
 // pending rays (depth-first), each carrying its throughput weight, its depth
 // and the colour component of the primary hit it descends from.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_basic : require
 
 #include "device_types.h"
 #include "camera.glsl"
@@ -113,7 +115,14 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         Ray ray = pending.ray;
         if (pending.depth > 0u) rayCount.z += 1u;
         Hit hit;
+#ifdef WHITTED_PROFILE_CAMERA_ONLY  // tools/profile_shader.sh: camera rays made, none traced
+        continue;
+#endif
         if (!traceClosest(ray, 3.0e38, hit)) continue;  // background is black
+#ifdef WHITTED_PROFILE_NO_SHADING  // tools/profile_shader.sh: camera rays traced, not shaded
+        result.components[0] += abs(hit.normal);
+        continue;
+#endif
 
         Primitive prim = primitives[hit.primitive];
         Material m = materials[prim.info.y];
@@ -293,7 +302,13 @@ void main() {
         sampleStats[2u * entry + 1u] = uvec4(floatBitsToUint(spread.hi), spread.mixed ? 1u : 0u);
     }
 
-    atomicAdd(counters.primary, rayCount.x);
-    atomicAdd(counters.shadow, rayCount.y);
-    atomicAdd(counters.secondary, rayCount.z);
+    // One atomic add per counter and subgroup, not per invocation: lavapipe
+    // runs a per-invocation atomic lane by lane, on a counter that the other
+    // cores' threads add to as well (README, "Profiling").
+    uvec3 groupCount = subgroupAdd(rayCount);
+    if (subgroupElect()) {
+        atomicAdd(counters.primary, groupCount.x);
+        atomicAdd(counters.shadow, groupCount.y);
+        atomicAdd(counters.secondary, groupCount.z);
+    }
 }

@@ -4,6 +4,7 @@
 #include "scene/scene_loader.h"
 #include "test_support.h"
 
+#include <algorithm>
 #include <bit>
 #include <cstdlib>
 #include <optional>
@@ -53,6 +54,72 @@ TEST(Bvh, BuilderInvariantsOnRandomBoxes) {
     // A SAH tree over uniformly scattered boxes costs a few dozen tests per
     // ray, far below the 50000 of brute force.
     EXPECT_LT(bvh.stats.sahCost, 200.0);
+}
+
+// The 4-wide tree the shader walks: the binary tree's leaves unchanged
+// (same primitive ranges, every primitive once), every child's box inside
+// its node's, two to four children a node and four wherever a child could
+// still be opened, no more slots than the binary tree (countSceneArrays'
+// bound) and the walk's stack within gpu::kBvhWideStackSize.
+TEST(Bvh, WideCollapseKeepsLeavesAndBounds) {
+    for (size_t n : {1u, 2u, 3u, 7u, 50000u}) {
+        std::mt19937 rng(5);
+        std::uniform_real_distribution<float> u(-100.0f, 100.0f), size(0.01f, 3.0f);
+        std::vector<Aabb> boxes(n);
+        for (Aabb& b : boxes) {
+            glm::vec3 p(u(rng), u(rng), u(rng));
+            b.min = p;
+            b.max = p + glm::vec3(size(rng), size(rng), size(rng));
+        }
+        Bvh bvh = buildBvh(boxes, 2);
+        std::vector<gpu::BvhNode> wide = collapseToWide(bvh.nodes);
+        ASSERT_FALSE(wide.empty());
+        EXPECT_LE(wide.size(), bvh.nodes.size());
+        EXPECT_LE(wide.size(), 2 * n - 1);
+
+        auto leafRanges = [](const std::vector<gpu::BvhNode>& nodes) {
+            std::vector<std::pair<uint32_t, uint32_t>> ranges;
+            for (const gpu::BvhNode& node : nodes)
+                if (uint32_t count = std::bit_cast<uint32_t>(node.hi.w); count > 0)
+                    ranges.emplace_back(std::bit_cast<uint32_t>(node.lo.w), count);
+            std::sort(ranges.begin(), ranges.end());
+            return ranges;
+        };
+        EXPECT_EQ(leafRanges(wide), leafRanges(bvh.nodes));
+
+        auto contains = [](const gpu::BvhNode& outer, const gpu::BvhNode& inner) {
+            return glm::all(glm::lessThanEqual(glm::vec3(outer.lo), glm::vec3(inner.lo))) &&
+                   glm::all(glm::greaterThanEqual(glm::vec3(outer.hi), glm::vec3(inner.hi)));
+        };
+        size_t reached = 1;
+        uint32_t maxStack = 0;
+        // Depth first, with the entries a walk could have stacked on the way:
+        // every hit child but the one it goes on with.
+        std::vector<std::pair<uint32_t, uint32_t>> todo = {{0u, 1u}};
+        while (!todo.empty()) {
+            auto [slot, stacked] = todo.back();
+            todo.pop_back();
+            maxStack = std::max(maxStack, stacked);
+            const gpu::BvhNode& node = wide[slot];
+            if (std::bit_cast<uint32_t>(node.hi.w) != 0u) continue;  // a leaf
+            uint32_t word = std::bit_cast<uint32_t>(node.lo.w);
+            uint32_t first = word & gpu::kBvhChildIndexMask, children = (word >> gpu::kBvhChildCountShift) + 2;
+            ASSERT_LE(children, 4u);
+            ASSERT_LE(first + children, wide.size());
+            reached += children;
+            bool leavesOnly = true;
+            for (uint32_t k = 0; k < children; ++k) {
+                const gpu::BvhNode& child = wide[first + k];
+                ASSERT_TRUE(contains(node, child));
+                leavesOnly = leavesOnly && std::bit_cast<uint32_t>(child.hi.w) != 0u;
+            }
+            EXPECT_TRUE(children == 4 || leavesOnly);
+            // This entry popped, all children but the one walked pushed.
+            for (uint32_t k = 0; k < children; ++k) todo.emplace_back(first + k, stacked - 1 + children);
+        }
+        EXPECT_EQ(reached, wide.size());  // every slot is a child of exactly one node (or the root)
+        EXPECT_LE(maxStack, gpu::kBvhWideStackSize);
+    }
 }
 
 // Every scene renders the same with the BVH as with brute force, pixel for

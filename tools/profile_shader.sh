@@ -8,7 +8,11 @@
 #
 #   tools/profile_shader.sh SCENE [WIDTHxHEIGHT] [SPP] [REPEAT] [VARIANT...]
 #   variants: base aov_all no_shadows depth0 no_bvh, or define:NAME for any
-#   other -D NAME (e.g. define:WHITTED_PROFILE_NO_SHADOWS)
+#   other -D NAME (e.g. define:WHITTED_PROFILE_NO_SHADOWS; also
+#   WHITTED_PROFILE_CAMERA_ONLY, WHITTED_PROFILE_NO_SHADING,
+#   WHITTED_PROFILE_NO_LIGHTS). The image is written as PPM: the render
+#   time includes writing the bands to the file, and a PNG's compression
+#   time depends on the image, which the variants change.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=${1:?usage: tools/profile_shader.sh SCENE [WxH] [SPP] [REPEAT] [VARIANT...]}
@@ -40,7 +44,7 @@ done
 w=${size%x*}; h=${size#*x}
 for ((r = 1; r <= repeat; ++r)); do
     for v in "${variants[@]}"; do
-        WHITTED_SHADER_SPV=${spv[$v]:-} build/whitted render "$scene" -o "$work/out.png" --width "$w" --height "$h" \
+        WHITTED_SHADER_SPV=${spv[$v]:-} build/whitted render "$scene" -o "$work/out.ppm" --width "$w" --height "$h" \
             --aa uniform --spp "$spp" ${args[$v]} -q
         python3 -c "import json,sys; r=json.load(open(sys.argv[1])); t=r['timings_s']; n=r['rays'];
 print(f\"{sys.argv[2]:28s} render {t['render']:7.3f} s  pipeline {t['pipeline']:.3f} s  {n['per_second']/1e6:6.2f} Mrays/s  \"

@@ -163,7 +163,51 @@ double sahCost(const Bvh& bvh) {
     return cost;
 }
 
+// Area of a node's box (for the collapse's choice).
+float nodeArea(const gpu::BvhNode& n) {
+    Aabb b;
+    b.min = glm::vec3(n.lo);
+    b.max = glm::vec3(n.hi);
+    return b.surfaceArea();
+}
+
+bool isInner(const gpu::BvhNode& n) { return std::bit_cast<uint32_t>(n.hi.w) == 0u; }
+
+// Fills the four child slots of wide node `slot` from binary inner node b.
+void collapseNode(std::span<const gpu::BvhNode> binary, uint32_t b, uint32_t slot, std::vector<gpu::BvhNode>& out) {
+    uint32_t first = std::bit_cast<uint32_t>(binary[b].lo.w);
+    std::vector<uint32_t> children = {first, first + 1};
+    while (children.size() < 4) {
+        int open = -1;
+        for (int k = 0; k < int(children.size()); ++k)
+            if (isInner(binary[children[k]]) &&
+                (open < 0 || nodeArea(binary[children[k]]) > nodeArea(binary[children[open]])))
+                open = k;
+        if (open < 0) break;
+        uint32_t c = std::bit_cast<uint32_t>(binary[children[open]].lo.w);
+        // In place, so that the children keep the binary tree's order.
+        children[open] = c;
+        children.insert(children.begin() + open + 1, c + 1);
+    }
+    uint32_t wide = uint32_t(out.size());
+    uint32_t count = uint32_t(children.size());
+    out[slot].lo.w = std::bit_cast<float>(((count - 2u) << gpu::kBvhChildCountShift) | wide);
+    out.resize(out.size() + count);
+    for (uint32_t k = 0; k < children.size(); ++k) out[wide + k] = binary[children[k]];
+    for (uint32_t k = 0; k < children.size(); ++k)
+        if (isInner(binary[children[k]])) collapseNode(binary, children[k], wide + k, out);
+}
+
 }  // namespace
+
+std::vector<gpu::BvhNode> collapseToWide(std::span<const gpu::BvhNode> binary) {
+    std::vector<gpu::BvhNode> out;
+    if (binary.empty()) return out;
+    out.reserve(2 * binary.size() + 4);
+    out.push_back(binary[0]);
+    if (isInner(binary[0])) collapseNode(binary, 0, 0, out);
+    return out;
+}
 
 Bvh buildBvh(std::span<const Aabb> bounds, unsigned threads) {
     auto start = std::chrono::steady_clock::now();

@@ -31,4 +31,19 @@ struct Bvh {
 // built in parallel on `threads` threads (0 = all cores).
 Bvh buildBvh(std::span<const Aabb> bounds, unsigned threads = 0);
 
+// The binary tree collapsed into a 4-wide one, in the same 32-byte nodes:
+// an inner node's two to four children are adjacent slots, lo.w holding
+// the first and their count (gpu::kBvhChildCountShift); leaves are the
+// binary tree's leaves unchanged (same primitive ranges). Each wide node
+// takes the two children of a binary node and, while it has fewer than
+// four, replaces its inner child of largest surface area by that child's
+// two children (the greedy collapse of Wald, Benthin and Boulos 2008 and
+// Dammertz et al. 2008; Ylitie, Karras and Laine 2017 collapse optimally by
+// dynamic programming on the SAH). Slot 0 is the root. A node with fewer
+// than four children has leaves only, so W wide nodes over L leaves have
+// W <= (2 L - 1) / 3 and the tree W + L <= 2 L - 1 slots, no more than the
+// binary tree. A walk needs at most 3/2 the binary depth in stack entries
+// (gpu::kBvhWideStackSize).
+std::vector<gpu::BvhNode> collapseToWide(std::span<const gpu::BvhNode> binary);
+
 }  // namespace whitted

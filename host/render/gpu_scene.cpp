@@ -162,7 +162,10 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     std::vector<Aabb>().swap(bounds);
     Bvh bvh = buildBvh(boundedBounds);
     std::vector<Aabb>().swap(boundedBounds);
-    g.bvhNodes = std::move(bvh.nodes);
+    g.bvhNodes = collapseToWide(bvh.nodes);
+    if (g.bvhNodes.size() > gpu::kBvhMaxNodes)
+        throw std::runtime_error("the scene's BVH has " + std::to_string(g.bvhNodes.size()) +
+                                 " nodes, more than the shader addresses (" + std::to_string(gpu::kBvhMaxNodes) + ")");
     g.bvhStats = bvh.stats;
     // The primitives in place in their final order, without a second copy.
     std::vector<uint32_t>& source = bvh.primitiveOrder;
@@ -207,7 +210,7 @@ SceneArrayCounts countSceneArrays(const Scene& scene) {
             childMaterials += csgOwnMaterialCount(*csg);
         }
     }
-    counts.bvhNodes = std::max<uint64_t>(2 * counts.primitives, 1) - 1;
+    counts.bvhNodes = std::max<uint64_t>(2 * counts.primitives, 1) - 1;  // binary or 4-wide (collapseToWide)
     counts.primitives += leaves;
     counts.materials = scene.objects.size() + childMaterials;
     counts.lights = scene.lights.size();
