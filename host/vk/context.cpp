@@ -60,9 +60,11 @@ bool hasRayQuery(const vk::raii::PhysicalDevice& device) {
 }
 
 DeviceInfo describe(const vk::raii::PhysicalDevice& device, uint32_t index) {
-    auto props = device.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties>();
+    auto props = device.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties,
+                                       vk::PhysicalDeviceSubgroupProperties>();
     const auto& p = props.get<vk::PhysicalDeviceProperties2>().properties;
     const auto& d = props.get<vk::PhysicalDeviceDriverProperties>();
+    const auto& subgroup = props.get<vk::PhysicalDeviceSubgroupProperties>();
     DeviceInfo info;
     info.index = index;
     info.name = p.deviceName.data();
@@ -79,6 +81,11 @@ DeviceInfo describe(const vk::raii::PhysicalDevice& device, uint32_t index) {
                   .get<vk::PhysicalDeviceVulkan12Features>()
                   .bufferDeviceAddress)
         info.unsuitable = "lacks bufferDeviceAddress (Vulkan 1.2 feature)";
+    // The ray counters are summed across a subgroup before one atomic add
+    // (shaders/whitted.comp): optional in Vulkan, on every desktop GPU and lavapipe.
+    else if (!(subgroup.supportedStages & vk::ShaderStageFlagBits::eCompute) ||
+             !(subgroup.supportedOperations & vk::SubgroupFeatureFlagBits::eArithmetic))
+        info.unsuitable = "lacks subgroup arithmetic in compute shaders";
     info.suitable = info.unsuitable.empty();
     info.rayQuery = info.suitable && hasRayQuery(device);
     return info;
