@@ -4,7 +4,9 @@
 #include "io/image_library.h"
 #include "test_support.h"
 
+#include <bit>
 #include <cmath>
+#include <limits>
 
 namespace whitted::test {
 namespace {
@@ -124,6 +126,38 @@ TEST(ImageLibrary, RenderCommandRefusesAnUnknownFormatAndWritesNothing) {
     EXPECT_EQ(run.status, 2) << run.output;
     EXPECT_NE(run.output.find("cannot write images of type '.notanimageformat'"), std::string::npos) << run.output;
     EXPECT_TRUE(fs::is_empty(dir));
+}
+
+}  // namespace
+}  // namespace whitted::test
+
+namespace whitted::test {
+namespace {
+
+// The sRGB table of encode8 gives the formula's code: on every 64th float
+// of [0, 1], on the 33 floats around each of the codes' steps, and outside.
+TEST(ImageOutput, SrgbTableMatchesTheFormula) {
+    uint64_t checked = 0, mismatches = 0;
+    auto check = [&](float v) {
+        ++checked;
+        if (encode8(v, PixelEncoding::Srgb8) != encodeSrgb8Formula(v) && ++mismatches <= 5)
+            ADD_FAILURE() << "v = " << v << ": table " << int(encode8(v, PixelEncoding::Srgb8)) << ", formula "
+                          << int(encodeSrgb8Formula(v));
+    };
+    const uint32_t one = std::bit_cast<uint32_t>(1.0f);
+    for (uint32_t bits = 0; bits <= one; bits += 64) check(std::bit_cast<float>(bits));
+    // Around each step: where the formula's code changes, found by walking the sampled floats.
+    for (uint32_t bits = 64; bits <= one; bits += 64)
+        if (encodeSrgb8Formula(std::bit_cast<float>(bits - 64)) != encodeSrgb8Formula(std::bit_cast<float>(bits)))
+            for (uint32_t b = bits - 64; b <= bits; ++b) check(std::bit_cast<float>(b));
+    for (float v : {-1.0f, -0.0f, 1.0f, 1.5f, 1e30f, std::numeric_limits<float>::infinity(),
+                    -std::numeric_limits<float>::infinity(), std::numeric_limits<float>::quiet_NaN(),
+                    std::numeric_limits<float>::denorm_min()})
+        check(v);
+    EXPECT_EQ(mismatches, 0u) << "of " << checked;
+    EXPECT_GT(checked, 16000000u);
+    EXPECT_EQ(encode8(1.0f, PixelEncoding::Srgb8), 255);
+    EXPECT_EQ(encode8(0.5f, PixelEncoding::Srgb8), 188);  // 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354
 }
 
 }  // namespace

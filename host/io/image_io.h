@@ -32,6 +32,9 @@ struct ImageWindow {
 
 // The 8-bit value written for v.
 unsigned char encode8(float v, PixelEncoding encoding);
+// The sRGB code by the formula, one pow per value: what encode8's table
+// must give (tests).
+unsigned char encodeSrgb8Formula(float v);
 
 // An image written band by band, top to bottom, so that memory holds one
 // band: under a temporary name in the destination folder, renamed over the
