@@ -102,7 +102,7 @@ TEST(ImageLibrary, ExecutableDoesNotLinkOpenImageIO) {
 }
 
 TEST(ImageLibrary, LoadsOnceAndKnowsTheFormats) {
-    preloadImageLibrary();  // on another thread or not, depending on the load: the same library after
+    preloadImageLibrary();  // on another thread or not, as the load allows: the same library after
     const ImageLibrary& library = imageLibrary();
     EXPECT_EQ(&library, &imageLibrary());
     EXPECT_TRUE(library.canWrite("x.png"));

@@ -100,7 +100,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
         const DeviceInfo& d = contexts.back()->deviceInfo();
         if (!options.quiet) std::cerr << "whitted: device " << d.name << " (" << d.type << ", " << d.driver << ")\n";
     }
-    // The image module loads on the other core while the pipeline is built.
+    // The image module loads beside the pipeline build when a core is idle.
     preloadImageLibrary();
     VulkanContext& ctx = *contexts.front();
     auto validationMessages = [&] {

@@ -3,12 +3,10 @@
 #include <dlfcn.h>
 
 #include <cstdlib>
-
-#include <fstream>
-#include <limits>
-
 #include <filesystem>
+#include <fstream>
 #include <future>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -72,10 +70,12 @@ Pending& pending() {
     return p;
 }
 
-std::shared_future<Loaded> startDeferred() {
+// The load, started unless it was: on another thread (async) or by the
+// first get() (deferred).
+std::shared_future<Loaded> start(std::launch policy) {
     Pending& p = pending();
     std::lock_guard lock(p.mutex);
-    if (!p.loaded.valid()) p.loaded = std::async(std::launch::deferred, load).share();
+    if (!p.loaded.valid()) p.loaded = std::async(policy, load).share();
     return p.loaded;
 }
 
@@ -95,18 +95,14 @@ unsigned runnableThreads() {
 }  // namespace
 
 const ImageLibrary& imageLibrary() {
-    const Loaded& loaded = startDeferred().get();
+    const Loaded& loaded = start(std::launch::deferred).get();
     if (!loaded.library)
         throw std::runtime_error("cannot load the image file module (OpenImageIO):" + loaded.error);
     return *loaded.library;
 }
 
-bool preloadImageLibrary() {
-    if (runnableThreads() >= std::thread::hardware_concurrency()) return false;
-    Pending& p = pending();
-    std::lock_guard lock(p.mutex);
-    if (!p.loaded.valid()) p.loaded = std::async(std::launch::async, load).share();
-    return true;
+void preloadImageLibrary() {
+    if (runnableThreads() < std::thread::hardware_concurrency()) start(std::launch::async);
 }
 
 }  // namespace whitted

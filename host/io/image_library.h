@@ -82,12 +82,11 @@ extern "C" const ImageLibrary* whittedImageLibrary(uint32_t abi);
 // way). Throws std::runtime_error naming the places tried.
 const ImageLibrary& imageLibrary();
 
-// Starts loading the library on another thread and returns at once (true),
-// when a core is idle now: fewer threads running or ready to run than
-// cores (this one included); else does nothing (false) and the first use
-// loads it. Call it after
-// the Vulkan instance exists: the dynamic loader loads one library at a
-// time, so a load under way would hold up the Vulkan loader's.
-bool preloadImageLibrary();
+// Starts loading the library on another thread and returns at once, when
+// a core is idle now (fewer threads running or ready to run than cores,
+// this one included); else does nothing and the first use loads it. Call
+// it after the Vulkan instance exists: the dynamic loader loads one library
+// at a time, so a load under way would hold up the Vulkan loader's.
+void preloadImageLibrary();
 
 }  // namespace whitted

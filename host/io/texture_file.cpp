@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <functional>
 #include <glm/gtc/packing.hpp>
 #include <memory>
 #include <system_error>
@@ -91,25 +90,17 @@ TextureData fromDecoded(const DecodedImage& image, TextureEncoding encoding, con
     return data;
 }
 
-// Reads through the image module; its reason when it can't.
-TextureData readDecoded(const std::function<bool(DecodedImage&, std::string&)>& read, TextureEncoding encoding,
-                        const std::string& name) {
-    DecodedImage image;
-    std::string reason;
-    if (!read(image, reason)) throw TextureFileError("could not be read: " + reason);
-    return fromDecoded(image, encoding, name);
-}
-
 }  // namespace
 
 TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding encoding) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw TextureFileError("does not exist");
     if (std::filesystem::is_directory(path, ec)) throw TextureFileError("is a directory, expected an image file");
-    const ImageLibrary& library = imageLibrary();
-    return readDecoded([&](DecodedImage& image, std::string& reason) {
-        return library.read(path.string(), kMaxTextureSize, image, reason);
-    }, encoding, path.string());
+    DecodedImage image;
+    std::string reason;
+    if (!imageLibrary().read(path.string(), kMaxTextureSize, image, reason))
+        throw TextureFileError("could not be read: " + reason);
+    return fromDecoded(image, encoding, path.string());
 }
 
 TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::string& hint, TextureEncoding encoding,
@@ -119,10 +110,11 @@ TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::s
     if (format.empty() && bytes.size() >= 4 && bytes[0] == 0x89 && bytes[1] == 'P' && bytes[2] == 'N') format = "png";
     if (format.empty() && bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8) format = "jpg";
     if (format.empty()) throw TextureFileError("is in a format that was not recognised (expected PNG or JPEG)");
-    const ImageLibrary& library = imageLibrary();
-    return readDecoded([&](DecodedImage& image, std::string& reason) {
-        return library.readMemory(bytes, format, kMaxTextureSize, image, reason);
-    }, encoding, name);
+    DecodedImage image;
+    std::string reason;
+    if (!imageLibrary().readMemory(bytes, format, kMaxTextureSize, image, reason))
+        throw TextureFileError("could not be read: " + reason);
+    return fromDecoded(image, encoding, name);
 }
 
 TextureData textureFromPixels(int width, int height, std::span<const float> rgba, const std::string& name) {
