@@ -114,6 +114,11 @@ WHITTED_CONST uint kAovBouncesMax = 16;
 WHITTED_CONST uint kRayStackSize = 24;
 WHITTED_CONST uint kMaxDepthLimit = kRayStackSize - 2;
 
+// The largest image side (scene files, --width/--height, textures) and the
+// most samples a pixel may take: every check of these limits uses these.
+WHITTED_CONST uint kMaxImageSide = 16384;
+WHITTED_CONST uint kMaxSamplesPerPixel = 65536;
+
 // Capacity of the BVH traversal stack; the builder limits the tree depth
 // to fit.
 WHITTED_CONST uint kBvhStackSize = 48;
@@ -257,7 +262,7 @@ struct RayCounters {
 WHITTED_CONST uint kBindingDisplayInput = 0;   // vec4[] sums, as kBindingOutput
 WHITTED_CONST uint kBindingDisplayOutput = 1;  // uint[width * height], RGBA8
 
-// What the display pass shows (DisplayParams.view.x), like io/aov_output.
+// What the display pass shows (DisplayParams.view.x), like output/aov_output.
 WHITTED_CONST uint kDisplayColor = 0;   // a colour layer: mean, clamp, sRGB
 WHITTED_CONST uint kDisplayScalar = 1;  // one channel's mean times scale.x
 WHITTED_CONST uint kDisplayDepth = 2;   // m / (m + d), m = scale.y

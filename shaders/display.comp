@@ -4,7 +4,7 @@
 // its own sample count (the w of the colour layer), so a pass that is only
 // partly done shows right. Colour layers are clamped and sRGB-encoded
 // (IEC 61966-2-1) exactly as io/image_io.cpp writes PNG files; the data
-// layers follow io/aov_output.cpp.
+// layers follow output/aov_output.cpp.
 #extension GL_GOOGLE_include_directive : require
 
 #include "device_types.h"

@@ -3,7 +3,7 @@
 // the sampling, banding or region, and that the layers exist only when asked.
 #include "test_support.h"
 
-#include "io/aov_output.h"
+#include "output/aov_output.h"
 #include "io/image_io.h"
 #include "scene/scene_loader.h"
 

@@ -2,7 +2,7 @@
 // files it writes and the files it must not create or clobber.
 #include "test_support.h"
 
-#include "io/aov_output.h"
+#include "output/aov_output.h"
 #include "io/image_io.h"
 
 #include <cstdio>

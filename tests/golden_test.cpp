@@ -12,7 +12,7 @@
 //   tools/update_references.sh
 // On failure the render and a difference image go to build/tests/output/.
 #include "io/image_io.h"
-#include "io/aov_output.h"
+#include "output/aov_output.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
 

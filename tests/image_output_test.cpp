@@ -1,5 +1,5 @@
 // Files written from a render: encodings, tone mapping, names, atomicity.
-#include "io/aov_output.h"
+#include "output/aov_output.h"
 #include "io/image_io.h"
 #include "io/image_library.h"
 #include "test_support.h"

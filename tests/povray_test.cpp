@@ -3,7 +3,7 @@
 // Every opaque scene in scenes/ and every scene in tests/povray_scenes/ is
 // rendered twice: by our renderer in-process (160x120, 16 stratified samples
 // per pixel, max depth 6) and by `povray` from the SDL that
-// host/io/povray_export.h writes (640x480 without antialiasing, box-filtered
+// host/scene/povray_export.h writes (640x480 without antialiasing, box-filtered
 // 4x4 down to 160x120: 16 samples per pixel on a regular grid; max_trace_level
 // 7 = the camera ray + 6 bounces). POV-Ray writes OpenEXR (+FE): linear float
 // values, neither clamped nor quantised, so both images are averaged in
@@ -46,7 +46,7 @@
 // NAME.diff.png (|difference| x 8) and the .pov file with POV-Ray's log.
 // WHITTED_POVRAY_KEEP=1 writes the images for passing scenes too.
 #include "io/image_io.h"
-#include "io/povray_export.h"
+#include "scene/povray_export.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
 

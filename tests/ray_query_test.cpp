@@ -2,7 +2,7 @@
 // shaders/ray_query.glsl) against our BVH: the same images, the same shadows
 // through glass. Skipped, saying why, on a device without ray queries
 // (lavapipe before Mesa 24.1); CI's Mesa 25 lavapipe runs them.
-#include "io/aov_output.h"
+#include "output/aov_output.h"
 #include "io/image_io.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"

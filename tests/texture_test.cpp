@@ -488,11 +488,13 @@ TEST(ModelMaterials, GlbBaseColourTextureIsUsedWhenTheSceneSetsNoColour) {
     // A colour of the scene's own wins: then the box is flat white.
     RenderResult flat = renderScene(loadSceneFromString(boxXml(R"(<diffuse_color r="1" g="1" b="1"/>)"), "box.xml"),
                                     {.samplesPerPixel = 4, .maxDepth = 0, .auxiliary = true});
-    for (int y = 0; y < flat.height; ++y)
-        for (int x = 0; x < flat.width; ++x)
-            if (pixel(flat, gpu::kAovCoefs1, x, y).w == 1.0f)
-                for (int c = 0; c < 3; ++c)
-                    ASSERT_NEAR(pixel(flat, gpu::kAovColor, x, y)[c], 1.0f, 1e-6f) << x << "," << y;
+    for (int y = 0; y < flat.height; ++y) {
+        for (int x = 0; x < flat.width; ++x) {
+            if (pixel(flat, gpu::kAovCoefs1, x, y).w != 1.0f) continue;
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(pixel(flat, gpu::kAovColor, x, y)[c], 1.0f, 1e-6f) << x << "," << y;
+        }
+    }
 }
 
 // ---- The window ------------------------------------------------------------

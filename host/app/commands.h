@@ -1,7 +1,7 @@
 // The command-line verbs. main.cpp only parses arguments and calls these.
 #pragma once
 
-#include "io/aov_output.h"
+#include "output/aov_output.h"
 #include "render/render_settings.h"
 
 #include <filesystem>

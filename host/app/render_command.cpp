@@ -4,7 +4,7 @@
 #include "app/quick_look.h"
 #include "io/image_io.h"
 #include "io/image_library.h"
-#include "io/render_record.h"
+#include "output/render_record.h"
 #include "render/multi_device.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"

@@ -40,7 +40,13 @@ int runViewCommand(const ViewOptions& given) {
             return kExitBadInput;
         }
     }
-    return runViewWindow(options, std::move(scene), std::move(script));
+    switch (runViewWindow(options, std::move(scene), std::move(script))) {
+        case ViewOutcome::Closed: return kExitOk;
+        case ViewOutcome::ScriptRefused: return kExitBadInput;
+        case ViewOutcome::Failed: return kExitFailure;
+        case ViewOutcome::ValidationMessages: return kExitValidation;
+    }
+    return kExitFailure;
 }
 
 }  // namespace whitted

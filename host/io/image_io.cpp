@@ -83,7 +83,7 @@ struct ImageStreamWriter::Output {
 
 ImageStreamWriter::ImageStreamWriter(const std::filesystem::path& path, int width, int height, int channels,
                                      PixelEncoding encoding, const ImageWindow& window)
-    : path_(path), out_(std::make_unique<Output>()), width_(width), height_(height), channels_(channels),
+    : path_(path), out_(std::make_unique<Output>()),
       isFloat_(isFloatFormat(path)), encoding_(encoding) {
     // Temporary name in the same folder (same file system, so rename is
     // atomic) with the same extension (OpenImageIO picks the format by it).

@@ -58,7 +58,6 @@ private:
     std::filesystem::path path_, temporary_;
     struct Output;
     std::unique_ptr<Output> out_;
-    int width_, height_, channels_;
     bool isFloat_;
     PixelEncoding encoding_;
     std::vector<unsigned char> bytes_;

@@ -1,6 +1,6 @@
 // Where a render's pixels go: the renderer hands over one band of whole rows
 // of the region at a time, top to bottom, as soon as it is done, so neither
-// device nor host memory grows with the image (io/aov_output.h streams
+// device nor host memory grows with the image (output/aov_output.h streams
 // bands into files; Renderer::render keeps them in memory).
 #pragma once
 

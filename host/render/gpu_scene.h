@@ -4,7 +4,7 @@
 #include "accel/bvh.h"
 #include "device_types.h"
 #include "render/render_settings.h"
-#include "scene/texture.h"
+#include "io/texture.h"
 #include "scene/scene.h"
 
 #include <cstdint>

@@ -48,7 +48,7 @@ struct RenderSettings {
     float aaThreshold = kDefaultAaThreshold;
     // Render only these pixels of the full image (none: all of it). They get
     // exactly the samples a full render gives them.
-    std::optional<PixelRegion> region;
+    std::optional<PixelRegion> region{};
     // Upper bound on camera samples per dispatch: keeps each submit short
     // (GPU watchdogs, progress updates) while amortising submit overhead.
     uint64_t samplesPerDispatch = 1u << 18;

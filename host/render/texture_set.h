@@ -9,7 +9,7 @@
 #include <span>
 #include <vector>
 
-#include "scene/texture.h"
+#include "io/texture.h"
 #include "vk/context.h"
 
 namespace whitted {

@@ -62,11 +62,11 @@ struct Material {
     glm::dvec3 absorption{0, 0, 0};     // Beer-Lambert sigma per unit length, inside the object
     // Image texture multiplying Cd (README "Textures"), and on planes the
     // world length of one repeat of it.
-    TextureRef diffuseTexture;
+    TextureRef diffuseTexture{};
     double textureScale = 1.0;
     // Tangent-space normal map (linear data, OpenGL convention: green is
     // +v) and how far it tilts the normal: its x, y scaled by the strength.
-    TextureRef normalMap;
+    TextureRef normalMap{};
     double normalStrength = 1.0;
 };
 

@@ -5,7 +5,7 @@
 #include <type_traits>
 #include <variant>
 
-#include "io/render_record.h"  // writeTextFile: temporary file + rename
+#include "io/atomic_file.h"
 
 namespace whitted {
 namespace {

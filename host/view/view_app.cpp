@@ -1,9 +1,8 @@
 #include "view/view_app.h"
 
-#include "app/commands.h"
-#include "io/aov_output.h"
+#include "output/aov_output.h"
 #include "io/image_io.h"
-#include "io/render_record.h"
+#include "output/render_record.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
@@ -37,7 +36,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 // The images the window can show: the main image, then every auxiliary
-// image in the order of `--aov all`, drawn as io/aov_output.cpp writes them.
+// image in the order of `--aov all`, drawn as output/aov_output.cpp writes them.
 struct LayerView {
     std::string name;
     gpu::DisplayParams params;
@@ -132,7 +131,7 @@ public:
             " spp, device " + ctx_.deviceInfo().name);
     }
 
-    int run();
+    ViewOutcome run();
 
     // InputSink
     void onKey(int key, int action, int mods) override;
@@ -247,7 +246,7 @@ private:
     std::optional<std::pair<int, Clock::time_point>> scriptHold_;
     std::vector<std::pair<std::filesystem::path, bool>> pendingShots_;  // path, whole window
     bool quit_ = false;
-    int status_ = kExitOk;
+    ViewOutcome status_ = ViewOutcome::Closed;
     long frame_ = 0;
 };
 
@@ -416,7 +415,7 @@ bool ViewApp::stepScript() {
         const ScriptCommand& c = script_[scriptNext_];
         auto fail = [&](const std::string& what) {
             std::cerr << options_.script->string() << ":" << c.line << ": " << what << "\n";
-            status_ = kExitBadInput;
+            status_ = ViewOutcome::ScriptRefused;
             return false;
         };
         auto number = [&](const std::string& s, double& v) {
@@ -432,7 +431,7 @@ bool ViewApp::stepScript() {
         if (elapsed > kScriptWaitSeconds) {
             std::cerr << options_.script->string() << ":" << c.line << ": '" << c.name << "' still waiting after "
                       << kScriptWaitSeconds << " s\n";
-            status_ = kExitFailure;
+            status_ = ViewOutcome::Failed;
             return false;
         }
         // Waiting commands.
@@ -540,7 +539,7 @@ bool ViewApp::stepScript() {
     return true;
 }
 
-int ViewApp::run() {
+ViewOutcome ViewApp::run() {
     auto last = Clock::now();
     double smoothedRays = 0, smoothedMs = 0, overheadSeconds = 0;
     double traceTotal = 0, frameTotal = 0, frameMax = 0;
@@ -604,7 +603,7 @@ int ViewApp::run() {
         if (ctx_.validationMessageCount() > 0) {
             std::cerr << "whitted: the Vulkan validation layer reported " << ctx_.validationMessageCount()
                       << " message(s)\n";
-            return kExitValidation;
+            return ViewOutcome::ValidationMessages;
         }
 
         const gpu::RayCounters& rays = renderer_.counters();
@@ -624,7 +623,7 @@ int ViewApp::run() {
         ++frame_;
         if (options_.frames > 0 && frame_ >= options_.frames) break;
     }
-    if (options_.screenshot && status_ == kExitOk) writeScreenshot(*options_.screenshot, false);
+    if (options_.screenshot && status_ == ViewOutcome::Closed) writeScreenshot(*options_.screenshot, false);
     char timing[160];
     std::snprintf(timing, sizeof timing, "; frames that traced: %ld, mean %.1f ms (tracing %.1f ms), longest %.1f ms",
                   tracedFrames, tracedFrames ? 1e3 * frameTotal / tracedFrames : 0.0,
@@ -636,7 +635,7 @@ int ViewApp::run() {
 
 }  // namespace
 
-int runViewWindow(const ViewOptions& options, Scene scene, std::vector<ScriptCommand> script) {
+ViewOutcome runViewWindow(const ViewOptions& options, Scene scene, std::vector<ScriptCommand> script) {
     ViewApp app(options, std::move(scene), std::move(script));
     return app.run();
 }

@@ -30,9 +30,16 @@ struct ViewOptions {
     double targetFrameMs = 40;
 };
 
+// How a window session ended; app/view_command.cpp maps it to an exit status.
+enum class ViewOutcome {
+    Closed,              // the window was closed, --frames ran out or the script quit
+    ScriptRefused,       // a script command could not be carried out (FILE:LINE printed)
+    Failed,              // a device or file failure, or a script wait that timed out
+    ValidationMessages,  // the Vulkan validation layer reported a problem
+};
+
 // Opens the window on a loaded scene and runs until it closes, --frames
-// runs out or the script quits; returns the exit status (kExit* of
-// app/commands.h). app/view_command.cpp checks the input first.
-int runViewWindow(const ViewOptions& options, Scene scene, std::vector<ScriptCommand> script);
+// runs out or the script quits. app/view_command.cpp checks the input first.
+ViewOutcome runViewWindow(const ViewOptions& options, Scene scene, std::vector<ScriptCommand> script);
 
 }  // namespace whitted

@@ -1,6 +1,7 @@
 // Vulkan instance, device choice, logical device and compute queue.
 #pragma once
 
+#include "vk/device_info.h"
 #include "vk/pipeline_cache.h"
 
 #include <vulkan/vulkan_raii.hpp>
@@ -16,18 +17,6 @@
 
 namespace whitted {
 
-struct DeviceInfo {
-    uint32_t index = 0;
-    std::string name;
-    std::string type;  // "discrete", "integrated", "virtual", "cpu", "other"
-    std::string driver;
-    uint32_t apiVersion = 0;
-    bool suitable = false;  // Vulkan 1.2, a compute queue and buffer device addresses
-    std::string unsuitable;  // why not, when not suitable
-    // VK_KHR_ray_query and VK_KHR_acceleration_structure with their features
-    // (enabled on the device when present: README "Ray queries").
-    bool rayQuery = false;
-};
 
 struct ContextOptions {
     bool validation = false;        // enable VK_LAYER_KHRONOS_validation

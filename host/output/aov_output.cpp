@@ -1,4 +1,4 @@
-#include "io/aov_output.h"
+#include "output/aov_output.h"
 
 #include "io/image_io.h"
 

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "render/band_sink.h"
-#include "render/renderer.h"
+#include "render/render_result.h"
 
 #include <memory>
 

@@ -1,4 +1,4 @@
-#include "io/render_record.h"
+#include "output/render_record.h"
 
 #include <algorithm>
 #include <nlohmann/json.hpp>
@@ -99,16 +99,6 @@ std::filesystem::path writeHistoryFolder(const std::filesystem::path& root,
         std::filesystem::rename(staging, target);
         return target;
     }
-}
-
-void writeTextFile(const std::filesystem::path& path, const std::string& text) {
-    std::filesystem::path temporary = path.parent_path() / ("." + path.filename().string() + ".partial");
-    {
-        std::ofstream out(temporary, std::ios::binary);
-        out << text;
-        if (!out.flush()) throw std::runtime_error(path.string() + ": cannot write file");
-    }
-    std::filesystem::rename(temporary, path);
 }
 
 }  // namespace whitted

@@ -3,8 +3,9 @@
 // scene and render.json describing settings, device and timings.
 #pragma once
 
-#include "render/renderer.h"
-#include "vk/context.h"
+#include "io/atomic_file.h"
+#include "render/render_result.h"
+#include "vk/device_info.h"
 
 #include <filesystem>
 #include <functional>
@@ -33,8 +34,5 @@ std::string renderRecordJson(const RenderRecord& record);
 // folder is removed, so an interrupted render never leaves a half-filled entry.
 std::filesystem::path writeHistoryFolder(const std::filesystem::path& root,
                                          const std::function<void(const std::filesystem::path& staging)>& fill);
-
-// Writes text to a file atomically (temporary file, then rename).
-void writeTextFile(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace whitted

@@ -1,6 +1,6 @@
-#include "io/povray_export.h"
+#include "scene/povray_export.h"
 
-#include "scene/texture.h"
+#include "io/texture.h"
 
 #include <algorithm>
 #include <cctype>

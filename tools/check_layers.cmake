@@ -1,0 +1,28 @@
+# Fails when a file of host/ includes a header of a layer above its own
+# (run by the build: host/CMakeLists.txt, which lists the layers bottom to top).
+#
+#   cmake "-DLAYERS=vk;io;..." -DHOST=host -DSTAMP=file -P tools/check_layers.cmake
+get_filename_component(root ${HOST}/.. ABSOLUTE)
+set(rank 0)
+foreach(layer ${LAYERS})
+  set(rank_${layer} ${rank})
+  math(EXPR rank "${rank} + 1")
+endforeach()
+set(failures "")
+foreach(layer ${LAYERS})
+  file(GLOB files ${HOST}/${layer}/*.h ${HOST}/${layer}/*.cpp)
+  foreach(file ${files})
+    file(STRINGS ${file} includes REGEX "^#include \"[a-z_]+/")
+    foreach(include ${includes})
+      string(REGEX REPLACE "^#include \"([a-z_]+)/.*" "\\1" target "${include}")
+      if(DEFINED rank_${target} AND rank_${target} GREATER rank_${layer})
+        file(RELATIVE_PATH rel ${root} ${file})
+        string(APPEND failures "${rel}: the ${layer} layer includes \"${target}/\", a layer above it\n")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
+if(failures)
+  message(FATAL_ERROR "${failures}(host/CMakeLists.txt lists the layers bottom to top)")
+endif()
+file(TOUCH ${STAMP})
