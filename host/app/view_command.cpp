@@ -32,7 +32,9 @@ int runViewCommand(const ViewOptions& given) {
     std::vector<ScriptCommand> script;
     if (options.script) {
         try {
-            script = loadScript(*options.script);
+            script = loadScript(*options.script, {.sampleBudget = uint32_t(options.settings.samplesPerPixel),
+                                                  .aovBounces = options.settings.aovBounces});
+            checkScriptOnScene(*options.script, script, scene);
         } catch (const std::invalid_argument& e) {
             std::cerr << e.what() << "\n";
             return kExitBadInput;
