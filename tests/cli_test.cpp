@@ -46,6 +46,24 @@ TEST(Cli, UnknownOptionIsBadInput) {
     EXPECT_NE(r.output.find("--no-such-option"), std::string::npos);
 }
 
+// --aa-threshold is a finite number in [0, 1]: NaN, which compares false
+// with both ends of a range, would turn refinement off without a word.
+TEST(Cli, AaThresholdMustBeFiniteAndInRange) {
+    fs::path dir = scratchDir("aa_threshold");
+    std::string base = "render " + scene("room.xml") + " -o out.png --width 8 --height 6 --aa-threshold ";
+    CommandRun r = runWhitted(base + "nan", dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(r.output, "--aa-threshold: must be a finite number, got nan\nRun with --help for more information.\n");
+    r = runWhitted(base + "inf", dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(r.output, "--aa-threshold: must be a finite number, got inf\nRun with --help for more information.\n");
+    r = runWhitted(base + "-1", dir);
+    EXPECT_EQ(r.status, 2);
+    EXPECT_EQ(r.output,
+              "--aa-threshold: Value -1 not in range 0.000000 to 1.000000\nRun with --help for more information.\n");
+    EXPECT_FALSE(fs::exists(dir / "out.png"));
+}
+
 TEST(Cli, RenderWritesMainAndAuxiliaryImages) {
     fs::path dir = scratchDir("render_o");
     CommandRun r = runWhitted("render " + scene("three_diffuse_spheres.xml") + " -o out.png --width 40 --height 30 --validate",

@@ -351,6 +351,55 @@ TEST(View, BadInputExitsBeforeOpeningAWindow) {
     EXPECT_NE(args.output.find("args.txt:1: 'drag' takes 3 argument(s), got 2"), std::string::npos) << args.output;
 }
 
+// Every script argument is checked when the script is loaded, before the
+// window opens: each of these is refused with SCRIPT:LINE and exit status 2
+// without an X display (DISPLAY unset: a window could not open).
+TEST(View, BadScriptArgumentsAreRefusedBeforeTheWindow) {
+    fs::path dir = scratchDir("bad_script_args");
+    size_t objects = loadScene(room()).objects.size();
+    const std::string unknownField =
+        "unknown field 'colour' (ior, kt, kr, ks, kd, ka, x, y, z, operation, checker_size, checker_r|g|b, "
+        "absorption_r|g|b, texture_scale, normal_strength)";
+    struct Case {
+        std::string script, message;
+    };
+    const Case cases[] = {
+        {"frames abc\n", "1: frames needs a count"},
+        {"frames -1\n", "1: frames needs a count"},
+        {"frames 2\nspp 4\nframes 1.5\n", "3: frames needs a count"},
+        {"spp -3\n", "1: spp needs a count >= 1"},
+        {"spp 5\n", "1: spp 5 is above the --spp budget"},
+        {"key NOPE\n", "1: unknown key 'NOPE'"},
+        {"hold W x\n", "1: hold KEY SECONDS"},
+        {"hold NOPE 1\n", "1: hold KEY SECONDS"},
+        {"drag left a b\n", "1: drag left|right|middle DX DY"},
+        {"drag up 1 1\n", "1: drag left|right|middle DX DY"},
+        {"scroll many\n", "1: scroll STEPS"},
+        {"select lamp 1\n", "1: select light|object N"},
+        {"select object x\n", "1: select light|object N"},
+        {"layer albedo\n", "1: unknown layer 'albedo'"},
+        {"layer reflection.1\n", "1: unknown layer 'reflection.1'"},  // without --aov-bounces
+        {"edit 0 colour 0.5\n", "1: edit: " + unknownField},
+        {"edit 0 kd high\n", "1: edit OBJECT FIELD VALUE"},
+        {"edit x kd 0.5\n", "1: edit OBJECT FIELD VALUE"},
+        {"edit 0 kd 2\n", "1: edit: kd must be in [0, 1]"},
+        {"edit 0 kd nan\n", "1: edit: value is not finite"},
+        // Needs the scene: checked once it is loaded, still before the window.
+        {"spp 1\nedit 0 kd 0.5\nedit " + std::to_string(objects) + " kd 0.5\n",
+         "3: edit: no object " + std::to_string(objects) + " (the scene has " + std::to_string(objects) + ")"},
+        {"edit 0 operation 1\n", "1: edit: operation applies to csg objects only"},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.script);
+        writeText(dir / "script.txt", c.script);
+        CommandRun run = runCommand("env -u DISPLAY -u WAYLAND_DISPLAY '" WHITTED_EXECUTABLE "' view " + room() + " " +
+                                        kSmall + " --script script.txt",
+                                    dir);
+        EXPECT_EQ(run.status, 2);
+        EXPECT_EQ(run.output, "script.txt:" + c.message + "\n");
+    }
+}
+
 // load -> write -> load gives the same Scene: every scene shipped.
 void expectClose(const glm::dvec3& a, const glm::dvec3& b, const std::string& what) {
     for (int i = 0; i < 3; ++i) EXPECT_NEAR(a[i], b[i], 1e-12 * std::max(1.0, std::abs(a[i]))) << what;

@@ -1,12 +1,14 @@
-// The command-line verbs. main.cpp only parses arguments and calls these.
+// The command-line verbs. Each sets up its own options on the CLI11 app
+// beside its code (render_command.cpp, view_command.cpp,
+// devices_command.cpp); main.cpp only registers them, parses and calls the
+// one given.
 #pragma once
 
-#include "output/aov_output.h"
-#include "render/render_settings.h"
+#include <functional>
 
-#include <filesystem>
-#include <optional>
-#include <string>
+namespace CLI {
+class App;
+}
 
 namespace whitted {
 
@@ -16,22 +18,15 @@ inline constexpr int kExitFailure = 1;     // device or I/O failure
 inline constexpr int kExitBadInput = 2;    // bad scene file or arguments
 inline constexpr int kExitValidation = 3;  // the Vulkan validation layer reported a problem
 
-struct RenderCommandOptions {
-    std::filesystem::path scene;
-    std::optional<std::filesystem::path> output;  // none: a new history folder
-    std::filesystem::path historyRoot = "renders";
-    RenderSettings settings;
-    std::string aovs = "all";
-    Tonemap tonemap = Tonemap::Clamp;
-    std::string device;
-    bool validation = false;
-    bool quiet = false;
+// A verb registered on the command line: its subcommand, and what runs
+// (after parsing) when it is the one given. `run` returns the exit status.
+struct Command {
+    CLI::App* subcommand = nullptr;
+    std::function<int()> run;
 };
 
-int runRenderCommand(const RenderCommandOptions& options);
-int runDevicesCommand();
-
-struct ViewOptions;  // view/view_app.h
-int runViewCommand(const ViewOptions& options);
+Command addRenderCommand(CLI::App& app);
+Command addDevicesCommand(CLI::App& app);
+Command addViewCommand(CLI::App& app);
 
 }  // namespace whitted

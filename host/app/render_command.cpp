@@ -1,9 +1,13 @@
-// `whitted render`: load, check outputs, render with progress, write files.
+// `whitted render`: its options; load, check outputs, render with progress,
+// write files.
+#include "app/cli_options.h"
 #include "app/commands.h"
 #include "app/progress_bar.h"
+#include "device_types.h"
 #include "app/quick_look.h"
 #include "io/image_io.h"
 #include "io/image_library.h"
+#include "output/aov_output.h"
 #include "output/render_record.h"
 #include "render/multi_device.h"
 #include "render/renderer.h"
@@ -11,7 +15,10 @@
 #include "scene/scene_writer.h"
 #include "vk/context.h"
 
+#include <CLI/CLI.hpp>
+
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
@@ -21,6 +28,18 @@
 
 namespace whitted {
 namespace {
+
+struct RenderCommandOptions {
+    std::filesystem::path scene;
+    std::optional<std::filesystem::path> output;  // none: a new history folder
+    std::filesystem::path historyRoot = "renders";
+    RenderSettings settings;
+    std::string aovs = "all";
+    Tonemap tonemap = Tonemap::Clamp;
+    std::string device;
+    bool validation = false;
+    bool quiet = false;
+};
 
 // Refuses an output that can't be written before any work is done: its
 // place at once, its format once the image module is loaded (after the
@@ -60,8 +79,6 @@ std::vector<std::string> deviceNames(const std::string& option) {
 // Thrown out of the history folder's fill when the validation layer spoke:
 // the staging folder goes, nothing is written.
 struct ValidationFailed {};
-
-}  // namespace
 
 int runRenderCommand(const RenderCommandOptions& options) {
     // Everything that can be refused is refused before the device starts.
@@ -195,12 +212,104 @@ int runRenderCommand(const RenderCommandOptions& options) {
     return kExitOk;
 }
 
-int runDevicesCommand() {
-    for (const DeviceInfo& d : VulkanContext::listDevices())
-        std::printf("%u: %s (%s, %s, Vulkan %u.%u)%s\n", d.index, d.name.c_str(), d.type.c_str(), d.driver.c_str(),
-                    VK_API_VERSION_MAJOR(d.apiVersion), VK_API_VERSION_MINOR(d.apiVersion),
-                    d.suitable ? "" : (" [unsuitable: " + d.unsuitable + "]").c_str());
-    return kExitOk;
+// The command line's words, as given; run() checks and maps them.
+struct RenderArguments {
+    RenderCommandOptions options;
+    std::string output, aa = "adaptive", region, tonemap = "clamp", trace = "auto";
+    bool noBvh = false;
+
+    int run() {
+        RenderCommandOptions o = options;
+        if (!output.empty()) o.output = output;
+        o.settings.useBvh = !noBvh;
+        if (noBvh && trace == "rayquery") {
+            std::cerr << "whitted: --no-bvh and --trace rayquery exclude each other\n";
+            return kExitBadInput;
+        }
+        o.settings.trace = trace == "rayquery" ? TracePath::RayQuery
+                           : trace == "bvh"    ? TracePath::Bvh
+                                               : TracePath::Auto;
+        o.settings.antiAliasing = aa == "uniform" ? AntiAliasing::Uniform : AntiAliasing::Adaptive;
+        if (!region.empty()) {
+            try {
+                o.settings.region = parsePixelRegion(region);
+            } catch (const std::invalid_argument& e) {
+                std::cerr << "whitted: --region: " << e.what() << "\n";
+                return kExitBadInput;
+            }
+        }
+        o.tonemap = tonemap == "seed" ? Tonemap::Seed : Tonemap::Clamp;
+        o.validation = o.validation || validationFromEnvironment();
+        return runRenderCommand(o);
+    }
+};
+
+// Refuses what CLI::Range lets through: NaN compares false with both ends
+// (an --aa-threshold of nan would turn refinement off without a word).
+// Text that is no number is left to the option's own conversion message.
+CLI::Validator finiteNumber() {
+    return CLI::Validator(
+        [](const std::string& text) -> std::string {
+            float value = 0;
+            if (CLI::detail::lexical_cast(text, value) && !std::isfinite(value))
+                return "must be a finite number, got " + text;
+            return "";
+        },
+        "");
+}
+
+}  // namespace
+
+Command addRenderCommand(CLI::App& app) {
+    auto args = std::make_shared<RenderArguments>();
+    RenderCommandOptions& render = args->options;
+    auto* cmd = app.add_subcommand("render", "render a scene file to images");
+    cmd->add_option("scene", render.scene,
+                    "scene XML file (.xml), or a model file (any other extension: a quick look)")->required();
+    cmd->add_option("-o,--output", args->output,
+                    "image to write (.png, .exr, ...); auxiliary images go beside it. "
+                    "Default: a new folder under renders/");
+    cmd->add_option("--width", render.settings.width, "image width in pixels [scene's]")
+        ->check(CLI::Range(1, int(gpu::kMaxImageSide)));
+    cmd->add_option("--height", render.settings.height, "image height in pixels [scene's]")
+        ->check(CLI::Range(1, int(gpu::kMaxImageSide)));
+    render.settings.samplesPerPixel = 16;
+    render.settings.antiAliasing = AntiAliasing::Adaptive;
+    cmd->add_option("--spp", render.settings.samplesPerPixel,
+                    "samples per pixel, stratified: the most a pixel takes (adaptive), or exactly (uniform)")
+        ->check(CLI::Range(1, int(gpu::kMaxSamplesPerPixel)))->capture_default_str();
+    cmd->add_option("--aa", args->aa, "anti-aliasing: adaptive (more samples where the image varies) or uniform")
+        ->check(CLI::IsMember({"adaptive", "uniform"}))->capture_default_str();
+    cmd->add_option("--aa-threshold", render.settings.aaThreshold,
+                    "adaptive: refine where displayed colours differ by more than this (0..1)")
+        ->check(finiteNumber())->check(CLI::Range(0.0f, 1.0f))->capture_default_str();
+    cmd->add_option("--region", args->region,
+                    "render only pixels X0 <= x < X1, Y0 <= y < Y1 of the image, exactly as a full render "
+                    "would (PNG: region-sized; EXR: data window in the full display window)");
+    cmd->add_option("--max-depth", render.settings.maxDepth, "secondary bounces; 0 = local shading only")
+        ->check(CLI::Range(0, int(gpu::kMaxDepthLimit)))->capture_default_str();
+    cmd->add_option("--aov", render.aovs,
+                    "auxiliary images: all, none, or a list of ambient,diffuse,specular,reflection,"
+                    "transmission,ambient_coef,diffuse_coef,specular_coef,reflection_coef,"
+                    "transmission_coef,ior,depth,normal; with --aov-bounces B also reflection.1..B and "
+                    "transmission.1..B")->capture_default_str();
+    cmd->add_option("--aov-bounces", render.settings.aovBounces,
+                    "split the reflection and transmission images by ray depth into B images each "
+                    "(reflection.K: rays at depth K of the reflected subtree; the last holds all deeper ones)")
+        ->check(CLI::Range(0, int(gpu::kAovBouncesMax)))->capture_default_str();
+    cmd->add_option("--tonemap", args->tonemap, "clamp (sRGB) or seed (min-max normalisation, gamma 0.667)")
+        ->check(CLI::IsMember({"clamp", "seed"}))->capture_default_str();
+    cmd->add_option("--device", render.device,
+                    "Vulkan device index or name substring [best available]; all, or a list such as 0,1, "
+                    "shares the bands of one render among several devices");
+    cmd->add_flag("--no-bvh", args->noBvh, "test every primitive for every ray (reference for comparisons)");
+    cmd->add_option("--trace", args->trace,
+                    "how rays find the scene: bvh (our BVH), rayquery (the device's acceleration structures, "
+                    "VK_KHR_ray_query), auto (ray queries on a GPU that has them, else bvh)")
+        ->check(CLI::IsMember({"auto", "bvh", "rayquery"}))->capture_default_str();
+    cmd->add_flag("--validate", render.validation, "enable the Khronos validation layer; fail on any message");
+    cmd->add_flag("-q,--quiet", render.quiet, "no progress or summary");
+    return {cmd, [args] { return args->run(); }};
 }
 
 }  // namespace whitted

@@ -228,84 +228,158 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
 
 namespace {
 
-std::optional<std::string> setOneObjectField(Scene& scene, int object, const std::string& field, double value) {
-    Object& o = scene.objects[object];
+struct FieldName {
+    const char* name;
+    ObjectField field;
+};
+constexpr FieldName kFieldNames[] = {
+    {"ior", ObjectField::Ior},
+    {"kt", ObjectField::Kt},
+    {"kr", ObjectField::Kr},
+    {"ks", ObjectField::Ks},
+    {"kd", ObjectField::Kd},
+    {"ka", ObjectField::Ka},
+    {"x", ObjectField::X},
+    {"y", ObjectField::Y},
+    {"z", ObjectField::Z},
+    {"operation", ObjectField::Operation},
+    {"checker_size", ObjectField::CheckerSize},
+    {"checker_r", ObjectField::CheckerR},
+    {"checker_g", ObjectField::CheckerG},
+    {"checker_b", ObjectField::CheckerB},
+    {"absorption_r", ObjectField::AbsorptionR},
+    {"absorption_g", ObjectField::AbsorptionG},
+    {"absorption_b", ObjectField::AbsorptionB},
+    {"texture_scale", ObjectField::TextureScale},
+    {"normal_strength", ObjectField::NormalStrength},
+};
+
+std::string fieldName(ObjectField field) {
+    for (const FieldName& f : kFieldNames)
+        if (f.field == field) return f.name;
+    return "?";
+}
+
+std::optional<std::string> noObject(const Scene& scene, int object) {
+    if (object >= 0 && object < int(scene.objects.size())) return std::nullopt;
+    return "no object " + std::to_string(object) + " (the scene has " + std::to_string(scene.objects.size()) + ")";
+}
+
+// The fields that apply to some objects only: why this one has none.
+std::optional<std::string> fieldKindError(const Object& o, ObjectField field) {
+    if (field == ObjectField::Operation && !std::holds_alternative<Csg>(o.shape))
+        return std::string("operation applies to csg objects only");
+    if (field == ObjectField::TextureScale && !std::holds_alternative<Plane>(o.shape))
+        return std::string("texture_scale applies to planes only");
+    if (field == ObjectField::NormalStrength && !o.material.normalMap)
+        return std::string("normal_strength needs a normal map");
+    return std::nullopt;
+}
+
+void setCheckedField(Object& o, ObjectField field, double value) {
     Material& m = o.material;
-    auto unit = [&](double& target) -> std::optional<std::string> {
-        if (value < 0 || value > 1) return field + " must be in [0, 1]";
-        target = value;
-        return std::nullopt;
-    };
-    if (field == "ior") {
-        if (value < 0.1 || value > 10) return std::string("ior must be in [0.1, 10]");
-        m.ior = value;
-        return std::nullopt;
-    }
-    if (field == "operation") {
-        // A csg object's operation: 0 union, 1 intersection, 2 difference.
-        Csg* csg = std::get_if<Csg>(&o.shape);
-        if (!csg) return std::string("operation applies to csg objects only");
-        if (value != 0 && value != 1 && value != 2)
-            return std::string("operation must be 0 (union), 1 (intersection) or 2 (difference)");
-        csg->operation = Csg::Operation(int(value));
-        return std::nullopt;
-    }
-    // The checker's size (0 removes it; a new one starts at the reference
-    // point), its colour and the absorption, one channel at a time.
-    if (field == "checker_size") {
-        if (value < 0 || value > 1e6) return std::string("checker_size must be in [0, 1e6]");
-        if (m.checkerSize == 0 && value > 0) m.checkerOrigin = checkerAnchor(o.shape);
-        m.checkerSize = value;
-        return std::nullopt;
-    }
-    for (int c = 0; c < 3; ++c) {
-        const char* channel[] = {"r", "g", "b"};
-        if (field == std::string("checker_") + channel[c]) return unit(m.checkerColor[c]);
-        if (field == std::string("absorption_") + channel[c]) {
-            if (value < 0 || value > 1e6) return field + " must be in [0, 1e6]";
-            m.absorption[c] = value;
-            return std::nullopt;
+    switch (field) {
+        case ObjectField::Ior: m.ior = value; return;
+        case ObjectField::Kt: m.transmission = value; return;
+        case ObjectField::Kr: m.reflection = value; return;
+        case ObjectField::Ks: m.specular = value; return;
+        case ObjectField::Kd: m.diffuse = value; return;
+        case ObjectField::Ka: m.ambient = value; return;
+        case ObjectField::Operation: std::get<Csg>(o.shape).operation = Csg::Operation(int(value)); return;
+        // The checker's size (0 removes it; a new one starts at the
+        // reference point), its colour and the absorption, one channel at a time.
+        case ObjectField::CheckerSize:
+            if (m.checkerSize == 0 && value > 0) m.checkerOrigin = checkerAnchor(o.shape);
+            m.checkerSize = value;
+            return;
+        case ObjectField::CheckerR: m.checkerColor.r = value; return;
+        case ObjectField::CheckerG: m.checkerColor.g = value; return;
+        case ObjectField::CheckerB: m.checkerColor.b = value; return;
+        case ObjectField::AbsorptionR: m.absorption.r = value; return;
+        case ObjectField::AbsorptionG: m.absorption.g = value; return;
+        case ObjectField::AbsorptionB: m.absorption.b = value; return;
+        case ObjectField::TextureScale: m.textureScale = value; return;
+        case ObjectField::NormalStrength: m.normalStrength = value; return;
+        case ObjectField::X:
+        case ObjectField::Y:
+        case ObjectField::Z: {
+            int axis = field == ObjectField::X ? 0 : field == ObjectField::Y ? 1 : 2;
+            glm::dvec3 p = shapeReferencePoint(o.shape), target = p;
+            target[axis] = value;
+            m.checkerOrigin += target - p;
+            translateShape(o.shape, target - p);
+            return;
         }
     }
-    if (field == "texture_scale") {
-        if (!std::holds_alternative<Plane>(o.shape)) return std::string("texture_scale applies to planes only");
-        if (!(value > 0) || value > 1e6) return std::string("texture_scale must be > 0");
-        m.textureScale = value;
-        return std::nullopt;
-    }
-    if (field == "normal_strength") {
-        if (!m.normalMap) return std::string("normal_strength needs a normal map");
-        if (value < 0 || value > 1e6) return std::string("normal_strength must be >= 0");
-        m.normalStrength = value;
-        return std::nullopt;
-    }
-    if (field == "kt") return unit(m.transmission);
-    if (field == "kr") return unit(m.reflection);
-    if (field == "ks") return unit(m.specular);
-    if (field == "kd") return unit(m.diffuse);
-    if (field == "ka") return unit(m.ambient);
-    int axis = field == "x" ? 0 : field == "y" ? 1 : field == "z" ? 2 : -1;
-    if (axis < 0)
-        return "unknown field '" + field +
-               "' (ior, kt, kr, ks, kd, ka, x, y, z, operation, checker_size, checker_r|g|b, absorption_r|g|b, "
-               "texture_scale, normal_strength)";
-    glm::dvec3 p = shapeReferencePoint(o.shape), target = p;
-    target[axis] = value;
-    m.checkerOrigin += target - p;
-    translateShape(o.shape, target - p);
-    return std::nullopt;
 }
 
 }  // namespace
 
+std::optional<ObjectField> objectFieldNamed(const std::string& name) {
+    for (const FieldName& f : kFieldNames)
+        if (name == f.name) return f.field;
+    return std::nullopt;
+}
+
+std::string unknownObjectField(const std::string& name) {
+    return "unknown field '" + name +
+           "' (ior, kt, kr, ks, kd, ka, x, y, z, operation, checker_size, checker_r|g|b, absorption_r|g|b, "
+           "texture_scale, normal_strength)";
+}
+
+std::optional<std::string> objectFieldValueError(ObjectField field, double value) {
+    if (!std::isfinite(value)) return std::string("value is not finite");
+    auto within = [&](double low, double high, const std::string& range) -> std::optional<std::string> {
+        if (value < low || value > high) return fieldName(field) + " must be " + range;
+        return std::nullopt;
+    };
+    switch (field) {
+        case ObjectField::Ior: return within(0.1, 10, "in [0.1, 10]");
+        case ObjectField::Operation:
+            if (value != 0 && value != 1 && value != 2)
+                return std::string("operation must be 0 (union), 1 (intersection) or 2 (difference)");
+            return std::nullopt;
+        case ObjectField::CheckerSize:
+        case ObjectField::AbsorptionR:
+        case ObjectField::AbsorptionG:
+        case ObjectField::AbsorptionB: return within(0, 1e6, "in [0, 1e6]");
+        case ObjectField::TextureScale:
+            if (!(value > 0) || value > 1e6) return std::string("texture_scale must be > 0");
+            return std::nullopt;
+        case ObjectField::NormalStrength: return within(0, 1e6, ">= 0");
+        case ObjectField::Kt:
+        case ObjectField::Kr:
+        case ObjectField::Ks:
+        case ObjectField::Kd:
+        case ObjectField::Ka:
+        case ObjectField::CheckerR:
+        case ObjectField::CheckerG:
+        case ObjectField::CheckerB: return within(0, 1, "in [0, 1]");
+        case ObjectField::X:
+        case ObjectField::Y:
+        case ObjectField::Z: break;
+    }
+    return std::nullopt;
+}
+
+std::optional<std::string> setObjectField(Scene& scene, int object, ObjectField field, double value) {
+    if (auto error = noObject(scene, object)) return error;
+    Object& o = scene.objects[object];
+    if (auto error = fieldKindError(o, field)) return error;
+    if (auto error = objectFieldValueError(field, value)) return error;
+    glm::dvec3 before = shapeReferencePoint(o.shape);
+    setCheckedField(o, field, value);
+    syncModelParts(scene, object, shapeReferencePoint(o.shape) - before);
+    return std::nullopt;
+}
+
 std::optional<std::string> setObjectField(Scene& scene, int object, const std::string& field, double value) {
-    if (object < 0 || object >= int(scene.objects.size()))
-        return "no object " + std::to_string(object) + " (the scene has " + std::to_string(scene.objects.size()) + ")";
-    if (!std::isfinite(value)) return "value is not finite";
-    glm::dvec3 before = shapeReferencePoint(scene.objects[object].shape);
-    std::optional<std::string> error = setOneObjectField(scene, object, field, value);
-    if (!error) syncModelParts(scene, object, shapeReferencePoint(scene.objects[object].shape) - before);
-    return error;
+    std::optional<ObjectField> known = objectFieldNamed(field);
+    if (!known) {
+        if (auto error = noObject(scene, object)) return error;
+        return unknownObjectField(field);
+    }
+    return setObjectField(scene, object, *known, value);
 }
 
 void translateShape(Shape& shape, const glm::dvec3& d) {

@@ -42,8 +42,24 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state);
 // material), checker_size (0: no checker), checker_r|g|b (its colour),
 // absorption_r|g|b (sigma per unit length), x, y, z (moves the shape so its
 // reference point has that coordinate) or a csg object's operation (0 union,
-// 1 intersection, 2 difference). Returns an error text for a bad index,
-// field or value.
+// 1 intersection, 2 difference), texture_scale (planes), normal_strength
+// (with a normal map).
+enum class ObjectField {
+    Ior, Kt, Kr, Ks, Kd, Ka, X, Y, Z, Operation, CheckerSize, CheckerR, CheckerG, CheckerB,
+    AbsorptionR, AbsorptionG, AbsorptionB, TextureScale, NormalStrength,
+};
+
+// The field of that name, if there is one; unknownObjectField is the
+// error text for a name that is none (it lists the names).
+std::optional<ObjectField> objectFieldNamed(const std::string& name);
+std::string unknownObjectField(const std::string& name);
+// A value the field never takes, whatever the object (not finite, or out
+// of its range): the error text.
+std::optional<std::string> objectFieldValueError(ObjectField field, double value);
+
+// Sets the field; returns an error text for a bad index, a field the
+// object does not have, or a bad value (the scene is then unchanged).
+std::optional<std::string> setObjectField(Scene& scene, int object, ObjectField field, double value);
 std::optional<std::string> setObjectField(Scene& scene, int object, const std::string& field, double value);
 
 // Moves a shape by `delta` (every point of it).

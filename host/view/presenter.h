@@ -36,7 +36,6 @@ public:
     // Acquires a swapchain image and begins the frame's command buffer;
     // false when the swapchain had to be rebuilt (skip this frame).
     bool beginFrame();
-    const vk::raii::CommandBuffer& commandBuffer() const { return cmd_; }
     // Records the display pass and the blit into the acquired image.
     void recordDisplay(const gpu::DisplayParams& display);
     // Records ImGui's draw lists over the image; `captureWindow` also copies

@@ -10,9 +10,10 @@
 #include "view/editor_panel.h"
 #include "view/file_watcher.h"
 #include "view/imgui_layer.h"
+#include "view/layer_views.h"
 #include "view/presenter.h"
 #include "view/progressive.h"
-#include "view/view_script.h"
+#include "view/script_runner.h"
 #include "view/window.h"
 #include "vk/context.h"
 
@@ -26,21 +27,12 @@
 #include <fstream>
 #include <iostream>
 #include <iterator>
-#include <map>
 #include <set>
-#include <sstream>
 
 namespace whitted {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// The images the window can show: the main image, then every auxiliary
-// image in the order of `--aov all`, drawn as output/aov_output.cpp writes them.
-struct LayerView {
-    std::string name;
-    gpu::DisplayParams params;
-};
 
 // The image files the scene's materials name (textures and normal maps),
 // resolved as the loader resolves them; hot reload watches them too.
@@ -55,36 +47,6 @@ std::vector<std::filesystem::path> textureFiles(const Scene& scene) {
     return {files.begin(), files.end()};
 }
 
-std::vector<LayerView> layerViews(int width, int height, int bounces) {
-    glm::uvec4 size(width, height, 0, 0);
-    auto make = [&](const char* name, uint32_t kind, uint32_t layer, uint32_t channel, float scale) {
-        return LayerView{
-            name, {.view = glm::uvec4(kind, layer, channel, 0), .size = size, .scale = glm::vec4(scale, 1, 0, 0)}};
-    };
-    std::vector<LayerView> views = {make("color", gpu::kDisplayColor, gpu::kAovColor, 0, 1),
-            make("ambient", gpu::kDisplayColor, gpu::kAovAmbient, 0, 1),
-            make("diffuse", gpu::kDisplayColor, gpu::kAovDiffuse, 0, 1),
-            make("specular", gpu::kDisplayColor, gpu::kAovSpecular, 0, 1),
-            make("reflection", gpu::kDisplayColor, gpu::kAovReflection, 0, 1),
-            make("transmission", gpu::kDisplayColor, gpu::kAovTransmission, 0, 1),
-            make("ambient_coef", gpu::kDisplayScalar, gpu::kAovCoefs0, 0, 1),
-            make("diffuse_coef", gpu::kDisplayScalar, gpu::kAovCoefs0, 1, 1),
-            make("specular_coef", gpu::kDisplayScalar, gpu::kAovCoefs0, 2, 1),
-            make("reflection_coef", gpu::kDisplayScalar, gpu::kAovCoefs1, 0, 1),
-            make("transmission_coef", gpu::kDisplayScalar, gpu::kAovCoefs1, 1, 1),
-            make("ior", gpu::kDisplayScalar, gpu::kAovCoefs1, 2, 1.0f / 3.0f),
-            make("depth", gpu::kDisplayDepth, gpu::kAovCoefs0, 3, 1),
-            make("normal", gpu::kDisplayNormal, gpu::kAovNormal, 0, 1)};
-    // --aov-bounces: the split images after "transmission", as --aov all orders them.
-    std::vector<LayerView> split;
-    for (int part = 0; part < 2; ++part)
-        for (int k = 1; k <= bounces; ++k)
-            split.push_back(make((std::string(part == 0 ? "reflection." : "transmission.") + std::to_string(k)).c_str(),
-                                 gpu::kDisplayColor, gpu::kAovCount + uint32_t(part * bounces + k - 1), 0, 1));
-    views.insert(views.begin() + 6, split.begin(), split.end());
-    return views;
-}
-
 void writeRgba8Png(const std::filesystem::path& path, const Rgba8Image& image) {
     std::vector<float> rgb(size_t(image.width) * image.height * 3);
     for (size_t i = 0, n = size_t(image.width) * image.height; i < n; ++i)
@@ -93,21 +55,11 @@ void writeRgba8Png(const std::filesystem::path& path, const Rgba8Image& image) {
     writeImage(path, image.width, image.height, 3, rgb, PixelEncoding::Linear8);
 }
 
-int keyByName(const std::string& name) {
-    static const std::map<std::string, int> named = {
-        {"ESCAPE", GLFW_KEY_ESCAPE}, {"F1", GLFW_KEY_F1}, {"TAB", GLFW_KEY_TAB}, {"SPACE", GLFW_KEY_SPACE}};
-    if (auto it = named.find(name); it != named.end()) return it->second;
-    if (name.size() == 1 && name[0] >= 'A' && name[0] <= 'Z') return GLFW_KEY_A + (name[0] - 'A');
-    if (name.size() == 1 && name[0] >= '0' && name[0] <= '9') return GLFW_KEY_0 + (name[0] - '0');
-    return GLFW_KEY_UNKNOWN;
-}
-
-class ViewApp final : public InputSink {
+class ViewApp final : public ScriptTarget {
 public:
     ViewApp(const ViewOptions& options, Scene scene, std::vector<ScriptCommand> script)
         : options_(options),
           scene_(std::move(scene)),
-          script_(std::move(script)),
           window_(windowSize(options, scene_).x * windowScale(options, scene_),
                   windowSize(options, scene_).y * windowScale(options, scene_),
                   "whitted view - " + options.scene.string()),
@@ -120,7 +72,8 @@ public:
                        options.targetFrameMs / 1000.0),
           // A quick look does not watch (nor hold a copy of) the model file.
           watcher_(options.sceneOut ? *options.sceneOut : options.scene, std::chrono::milliseconds(250)),
-          layers_(layerViews(renderer_.width(), renderer_.height(), options.settings.aovBounces)) {
+          layers_(layerViews(renderer_.width(), renderer_.height(), options.settings.aovBounces)),
+          script_(options.script.value_or(""), std::move(script)) {
         window_.setInputSink(this);
         watchTextures();
         camera_.takeChanged();  // the file's camera, already uploaded
@@ -138,6 +91,27 @@ public:
     void onMouseButton(int button, int action, double x, double y) override;
     void onCursor(double x, double y) override;
     void onScroll(double steps) override { camera_.zoom(steps); }
+
+    // ScriptTarget
+    long framesDrawn() const override { return frame_; }
+    uint32_t completedSamples() const override { return progressive_.completedSamples(); }
+    long reloads() const override { return reloadCount_; }
+    glm::dvec2 cursor() const override { return cursor_; }
+    std::optional<std::string> editObject(int object, ObjectField field, double value) override {
+        std::optional<std::string> error = setObjectField(scene_, object, field, value);
+        if (!error) uploadScene("edited object " + std::to_string(object));
+        return error;
+    }
+    void select(bool light, int index) override {
+        editor_.selectedLight = light ? index : -1;
+        editor_.selectedObject = light ? -1 : index;
+    }
+    void showLayer(size_t index) override { layer_ = index; }
+    void screenshotAfterFrame(const std::filesystem::path& path, bool window) override {
+        pendingShots_.emplace_back(path, window);
+    }
+    void saveImages() override;
+    void saveScene() override;
 
 private:
     static glm::ivec2 windowSize(const ViewOptions& o, const Scene& s) {
@@ -208,15 +182,11 @@ private:
         return " (" + std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(age).count()) +
                " ms after the file changed)";
     }
-    bool stepScript();  // false: the script quit or failed
     void flyFromKeys(double seconds);
-    void saveImages();
-    void saveScene();
     void writeScreenshot(const std::filesystem::path& path, bool window);
 
     const ViewOptions& options_;
     Scene scene_;
-    std::vector<ScriptCommand> script_;
     Window window_;
     VulkanContext ctx_;
     Renderer renderer_;
@@ -237,13 +207,9 @@ private:
     int dragButton_ = -1;
     glm::dvec2 cursor_{0};
 
-    // Script state.
-    size_t scriptNext_ = 0;
-    Clock::time_point waitStart_ = Clock::now();
-    long waitFrames_ = -1;
-    long reloadCount_ = 0;            // file changes seen, loaded or refused
-    std::optional<long> reloadMark_;  // what `reload` waits to exceed
-    std::optional<std::pair<int, Clock::time_point>> scriptHold_;
+    // The script, started once the window and the renderer are up.
+    ScriptRunner script_;
+    long reloadCount_ = 0;  // file changes seen, loaded or refused
     std::vector<std::pair<std::filesystem::path, bool>> pendingShots_;  // path, whole window
     bool quit_ = false;
     ViewOutcome status_ = ViewOutcome::Closed;
@@ -409,143 +375,13 @@ void ViewApp::writeScreenshot(const std::filesystem::path& path, bool window) {
         std::to_string(progressive_.completedSamples()) + " spp, " + layers_[layer_].name + ")");
 }
 
-// Runs script commands until one has to wait. Returns false to stop.
-bool ViewApp::stepScript() {
-    while (scriptNext_ < script_.size()) {
-        const ScriptCommand& c = script_[scriptNext_];
-        auto fail = [&](const std::string& what) {
-            std::cerr << options_.script->string() << ":" << c.line << ": " << what << "\n";
-            status_ = ViewOutcome::ScriptRefused;
-            return false;
-        };
-        auto number = [&](const std::string& s, double& v) {
-            try {
-                size_t used = 0;
-                v = std::stod(s, &used);
-                return used == s.size();
-            } catch (...) {
-                return false;
-            }
-        };
-        double elapsed = std::chrono::duration<double>(Clock::now() - waitStart_).count();
-        if (elapsed > kScriptWaitSeconds) {
-            std::cerr << options_.script->string() << ":" << c.line << ": '" << c.name << "' still waiting after "
-                      << kScriptWaitSeconds << " s\n";
-            status_ = ViewOutcome::Failed;
-            return false;
-        }
-        // Waiting commands.
-        bool waited = c.name == "frames" || c.name == "spp" || c.name == "reload" || c.name == "hold";
-        if (c.name == "frames") {
-            double n = 0;
-            if (!number(c.args[0], n) || n < 0) return fail("frames needs a count");
-            if (waitFrames_ < 0) waitFrames_ = frame_ + long(n);
-            if (frame_ < waitFrames_) return true;
-            waitFrames_ = -1;
-        } else if (c.name == "spp") {
-            double n = 0;
-            if (!number(c.args[0], n) || n < 1) return fail("spp needs a count >= 1");
-            if (n > progressive_.targetSamples()) return fail("spp " + c.args[0] + " is above the --spp budget");
-            if (progressive_.completedSamples() < uint32_t(n)) return true;
-        } else if (c.name == "reload") {
-            // A reload after the last file edit of the script (it may have
-            // happened already, in the frame of the edit).
-            if (!reloadMark_) reloadMark_ = reloadCount_;
-            if (reloadCount_ <= *reloadMark_) return true;
-            reloadMark_.reset();
-        } else if (c.name == "hold") {
-            double seconds = 0;
-            int key = keyByName(c.args[0]);
-            if (key == GLFW_KEY_UNKNOWN || !number(c.args[1], seconds)) return fail("hold KEY SECONDS");
-            if (!scriptHold_) {
-                scriptHold_ = {key, Clock::now()};
-                onKey(key, GLFW_PRESS, 0);
-            }
-            if (std::chrono::duration<double>(Clock::now() - scriptHold_->second).count() < seconds) return true;
-            onKey(key, GLFW_RELEASE, 0);
-            scriptHold_.reset();
-            // Immediate commands.
-        } else if (c.name == "key") {
-            int key = keyByName(c.args[0]);
-            if (key == GLFW_KEY_UNKNOWN) return fail("unknown key '" + c.args[0] + "'");
-            onKey(key, GLFW_PRESS, 0);
-            onKey(key, GLFW_RELEASE, 0);
-        } else if (c.name == "drag") {
-            static const std::map<std::string, int> buttons = {{"left", GLFW_MOUSE_BUTTON_LEFT},
-                                                               {"right", GLFW_MOUSE_BUTTON_RIGHT},
-                                                               {"middle", GLFW_MOUSE_BUTTON_MIDDLE}};
-            double dx = 0, dy = 0;
-            auto b = buttons.find(c.args[0]);
-            if (b == buttons.end() || !number(c.args[1], dx) || !number(c.args[2], dy))
-                return fail("drag left|right|middle DX DY");
-            glm::dvec2 start = cursor_;
-            onMouseButton(b->second, GLFW_PRESS, start.x, start.y);
-            onCursor(start.x + dx, start.y + dy);
-            onMouseButton(b->second, GLFW_RELEASE, start.x + dx, start.y + dy);
-        } else if (c.name == "scroll") {
-            double steps = 0;
-            if (!number(c.args[0], steps)) return fail("scroll STEPS");
-            onScroll(steps);
-        } else if (c.name == "copy") {
-            std::error_code ec;
-            std::filesystem::copy_file(c.args[0], c.args[1], std::filesystem::copy_options::overwrite_existing, ec);
-            if (ec) return fail("copy: " + ec.message());
-            reloadMark_ = reloadCount_;
-        } else if (c.name == "replace") {
-            std::ifstream in(c.args[0], std::ios::binary);
-            std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-            size_t at = text.find(c.args[1]);
-            if (!in || at == std::string::npos) return fail("replace: '" + c.args[1] + "' not found in " + c.args[0]);
-            text.replace(at, c.args[1].size(), c.args[2]);
-            std::ofstream(c.args[0], std::ios::binary | std::ios::trunc) << text;  // in place, as an editor would
-            reloadMark_ = reloadCount_;
-        } else if (c.name == "edit") {
-            double index = 0, value = 0;
-            if (!number(c.args[0], index) || !number(c.args[2], value)) return fail("edit OBJECT FIELD VALUE");
-            if (auto error = setObjectField(scene_, int(index), c.args[1], value)) return fail("edit: " + *error);
-            uploadScene("edited object " + c.args[0]);
-        } else if (c.name == "select") {
-            double index = 0;
-            if ((c.args[0] != "light" && c.args[0] != "object") || !number(c.args[1], index))
-                return fail("select light|object N");
-            editor_.selectedLight = c.args[0] == "light" ? int(index) : -1;
-            editor_.selectedObject = c.args[0] == "object" ? int(index) : -1;
-        } else if (c.name == "layer") {
-            auto it =
-                std::find_if(layers_.begin(), layers_.end(), [&](const LayerView& l) { return l.name == c.args[0]; });
-            if (it == layers_.end()) return fail("unknown layer '" + c.args[0] + "'");
-            layer_ = size_t(it - layers_.begin());
-        } else if (c.name == "screenshot" || c.name == "window_screenshot") {
-            // Taken after this frame is drawn; later commands wait for it.
-            pendingShots_.emplace_back(c.args[0], c.name == "window_screenshot");
-            ++scriptNext_;
-            waitStart_ = Clock::now();
-            return true;
-        } else if (c.name == "save_images") {
-            saveImages();
-        } else if (c.name == "save_scene") {
-            saveScene();
-        } else if (c.name == "quit") {
-            quit_ = true;
-            ++scriptNext_;
-            return true;
-        }
-        // One command per frame: what it changed (a restart, a reload) is
-        // in place before the next command looks at the state.
-        ++scriptNext_;
-        waitStart_ = Clock::now();
-        if (!waited) return true;
-    }
-    return true;
-}
-
 ViewOutcome ViewApp::run() {
     auto last = Clock::now();
     double smoothedRays = 0, smoothedMs = 0, overheadSeconds = 0;
     double traceTotal = 0, frameTotal = 0, frameMax = 0;
     long tracedFrames = 0;
     while (!quit_ && !window_.shouldClose()) {
-        bool idle = progressive_.done() && scriptNext_ >= script_.size() && heldKeys_.empty() && dragButton_ < 0 &&
+        bool idle = progressive_.done() && script_.finished() && heldKeys_.empty() && dragButton_ < 0 &&
                     options_.frames == 0;
         if (idle)
             glfwWaitEventsTimeout(0.05);  // nothing to trace: don't spin the CPU
@@ -555,7 +391,11 @@ ViewOutcome ViewApp::run() {
         double dt = std::chrono::duration<double>(now - last).count();
         last = now;
 
-        if (!stepScript()) break;
+        ScriptStep step = script_.step(*this);
+        if (step == ScriptStep::Refused) status_ = ViewOutcome::ScriptRefused;
+        if (step == ScriptStep::TimedOut) status_ = ViewOutcome::Failed;
+        if (step == ScriptStep::Refused || step == ScriptStep::TimedOut) break;
+        if (step == ScriptStep::Quit) quit_ = true;
         flyFromKeys(dt);
         checkReload();
 

@@ -54,9 +54,6 @@ Window::~Window() {
 bool Window::shouldClose() const {
     return glfwWindowShouldClose(window_);
 }
-void Window::setTitle(const std::string& title) {
-    glfwSetWindowTitle(window_, title.c_str());
-}
 
 std::vector<std::string> Window::requiredInstanceExtensions() {
     uint32_t count = 0;

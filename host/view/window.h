@@ -30,7 +30,6 @@ public:
     GLFWwindow* handle() const { return window_; }
     void setInputSink(InputSink* sink) { sink_ = sink; }
     bool shouldClose() const;
-    void setTitle(const std::string& title);
 
     // The instance extensions Vulkan needs to present here.
     static std::vector<std::string> requiredInstanceExtensions();

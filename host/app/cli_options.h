@@ -1,0 +1,19 @@
+// Option values the commands share, parsed and checked once here.
+#pragma once
+
+#include <string>
+
+#include "render/render_settings.h"
+
+namespace whitted {
+
+// --region "X0,Y0,X1,Y1": four integers, nothing else. Throws
+// std::invalid_argument "expected X0,Y0,X1,Y1 (four integers), got '...'".
+// Whether the region lies in the image is the renderer's check (it knows
+// the image's size).
+PixelRegion parsePixelRegion(const std::string& text);
+
+// WHITTED_VALIDATION=1 turns the validation layer on, as --validate does.
+bool validationFromEnvironment();
+
+}  // namespace whitted
