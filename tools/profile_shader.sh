@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # Profiles the tracer on lavapipe by switching features off, one at a time,
 # in the same run: shader variants compiled from shaders/whitted.comp with
-# -D WHITTED_PROFILE_* (passed to whitted through WHITTED_SHADER_SPV, see
-# host/render/renderer.cpp) and run-time options (--aov, --max-depth,
-# --no-bvh). Prints the render time of each, REPEAT times, interleaved so
-# that machine load affects them alike.
+# -D WHITTED_PROFILE_* (passed to whitted through WHITTED_SHADER_SPV) and
+# run-time options (--aov, --max-depth, --no-bvh). Prints the render time of
+# each, REPEAT times, interleaved so that machine load affects them alike.
+# The shader override is compiled only into a developer build
+# (WHITTED_DEVELOPER): the script configures and builds one in build-dev and
+# runs its whitted (the build's output goes to stderr).
 #
 #   tools/profile_shader.sh SCENE [WIDTHxHEIGHT] [SPP] [REPEAT] [VARIANT...]
 #   variants: base aov_all no_shadows depth0 no_bvh, or define:NAME for any
@@ -22,6 +24,9 @@ repeat=${4:-3}
 shift $(( $# < 4 ? $# : 4 ))
 variants=("$@")
 [ ${#variants[@]} -gt 0 ] || variants=(base aov_all no_shadows depth0 no_bvh)
+build=build-dev
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DWHITTED_DEVELOPER=ON -DWHITTED_BUILD_TESTS=OFF >/dev/null
+cmake --build "$build" --target whitted >&2
 work=$(mktemp -d /tmp/whitted-profile.XXXXXX)
 trap 'rm -rf "$work"' EXIT
 
@@ -44,7 +49,7 @@ done
 w=${size%x*}; h=${size#*x}
 for ((r = 1; r <= repeat; ++r)); do
     for v in "${variants[@]}"; do
-        WHITTED_SHADER_SPV=${spv[$v]:-} build/whitted render "$scene" -o "$work/out.ppm" --width "$w" --height "$h" \
+        WHITTED_SHADER_SPV=${spv[$v]:-} "$build/whitted" render "$scene" -o "$work/out.ppm" --width "$w" --height "$h" \
             --aa uniform --spp "$spp" ${args[$v]} -q
         python3 -c "import json,sys; r=json.load(open(sys.argv[1])); t=r['timings_s']; n=r['rays'];
 print(f\"{sys.argv[2]:28s} render {t['render']:7.3f} s  pipeline {t['pipeline']:.3f} s  {n['per_second']/1e6:6.2f} Mrays/s  \"

@@ -1,0 +1,195 @@
+"""The benchmark's parts, whitted against POV-Ray in the same run: fixed samples per pixel and equal quality
+(time to a clean image) scene by scene, then the window's drag proxy. Every part interleaves the drivers' whitted
+runs with the POV-Ray runs, so that load from other jobs hits both."""
+import dataclasses
+import hashlib
+import json
+import os
+import statistics
+import sys
+
+from .measures import clean, psnr
+from .plan import (DRAG_SIZE, MAX_DEPTH, POVRAY_ADAPTIVE, POVRAY_REFERENCE, POVRAY_THRESHOLDS, PSNR_TARGET_DB, ROOM,
+                   WHITTED_REFERENCE, WHITTED_TRIES, povray_fixed_antialias)
+from .runners import export_pov, make_scene, povray_version, run_povray, run_whitted, sha256_file
+
+
+@dataclasses.dataclass
+class Bench:
+    """What every part runs with: the tools, the drivers and the work folder."""
+    whitted: str
+    exporter: str  # whitted_povray_export; None when POV-Ray is skipped
+    drivers: list
+    work: str
+
+
+def progress(line):
+    """A line on stderr saying what runs now."""
+    print(f"== {line}", file=sys.stderr, flush=True)
+
+
+def run_scenes(bench, plan):
+    """Both parts for every scene of the plan: (label -> fixed-spp results, label -> equal-quality results)."""
+    results = {d.label: [] for d in bench.drivers}
+    eq_results = {d.label: [] for d in bench.drivers}
+    for name, (how, arg) in plan.scenes.items():
+        scene, note = make_scene(name, how, arg, bench.work, bench.whitted, bench.drivers[0].env)
+        for size, (width, height, spp) in plan.sizes:
+            if size == "full" and name not in plan.full_scenes:
+                continue
+            for label, result in fixed_samples(bench, name, scene, note, size, width, height, spp).items():
+                results[label].append(result)
+        if plan.equal_quality:
+            width, height = plan.equal_quality_sizes[name]
+            for label, entry in equal_quality(bench, name, scene, width, height, plan.fresh_references).items():
+                entry["mesh_source"] = note
+                eq_results[label].append(entry)
+    return results, eq_results
+
+
+def fixed_samples(bench, name, scene, note, size, width, height, spp):
+    """Every driver's whitted and POV-Ray at one scene, size and sample count. Returns label -> result."""
+    tag = f"{name}_{size}"
+    progress(f"{name} {width}x{height} {spp} spp")
+    ours = {d.label: run_whitted(bench.whitted, d, scene, os.path.join(bench.work, f"{tag}_{d.label}.png"), width,
+                                 height, ["--aa", "uniform", "--spp", str(spp)]) for d in bench.drivers}
+    pov = None
+    if bench.exporter:
+        pov = run_povray(export_pov(bench.exporter, scene, bench.work, tag, width, height),
+                         os.path.join(bench.work, tag + ".pov.png"), width, height, povray_fixed_antialias(spp))
+    out = {}
+    for d in bench.drivers:
+        result = {"scene": name, "size": size, "width": width, "height": height, "spp": spp,
+                  "max_depth": MAX_DEPTH, "mesh_source": note, "whitted": ours[d.label], "povray": pov}
+        if pov and pov["render_s"]:
+            result["povray_over_whitted"] = {"wall": pov["wall_s"] / ours[d.label]["wall_s"],
+                                             "render": pov["render_s"] / ours[d.label]["render_s"]}
+        out[d.label] = result
+    return out
+
+
+def cached_reference(cache, key, make, fresh):
+    """Returns (image path, record) of a reference: from the cache unless `fresh`, or made by make(path) -> record."""
+    os.makedirs(cache, exist_ok=True)
+    path = os.path.join(cache, key + ".png")
+    meta = os.path.join(cache, key + ".meta.json")
+    if fresh:
+        for stale in (path, meta, os.path.join(cache, key + ".json")):
+            if os.path.exists(stale):
+                os.remove(stale)
+    if os.path.exists(path) and os.path.exists(meta):
+        with open(meta, encoding="utf-8") as f:
+            record = json.load(f)
+        record["cached"] = True
+        return path, record
+    partial = os.path.join(cache, key + ".partial.png")
+    record = make(partial)
+    os.replace(partial, path)
+    partial_json = os.path.splitext(partial)[0] + ".json"
+    if os.path.exists(partial_json):
+        os.replace(partial_json, os.path.join(cache, key + ".json"))
+    with open(meta, "w", encoding="utf-8") as f:
+        json.dump(record, f, indent=2)
+    record["cached"] = False
+    return path, record
+
+
+def reference_key(renderer, *parts):
+    """A cache key: the renderer's name and a hash of what makes its reference (binary, scene, options)."""
+    return renderer + "_" + hashlib.sha256(" ".join(str(p) for p in parts).encode()).hexdigest()[:24]
+
+
+def whitted_reference(bench, scene, width, height, fresh):
+    """whitted's 64-sample uniform reference, rendered by the first driver: (image path, record)."""
+    first = bench.drivers[0]
+    whitted_hash = sha256_file(bench.whitted, os.environ.get("WHITTED_SHADER_SPV", ""))
+    key = reference_key("whitted", whitted_hash, sha256_file(scene), f"{width}x{height}", WHITTED_REFERENCE,
+                        MAX_DEPTH)
+    return cached_reference(os.path.join(bench.work, "references"), key, lambda path: dict(
+        run_whitted(bench.whitted, first, scene, path, width, height, WHITTED_REFERENCE), reference_driver=first.label),
+        fresh)
+
+
+def povray_reference(pov, work, width, height, fresh):
+    """POV-Ray's 64-sample reference of an exported scene: (image path, record)."""
+    version = povray_version()
+    key = reference_key("povray", version, sha256_file(pov), f"{width}x{height}", POVRAY_REFERENCE)
+    return cached_reference(os.path.join(work, "references"), key, lambda path: dict(
+        run_povray(pov, path, width, height, POVRAY_REFERENCE), version=version), fresh)
+
+
+def equal_quality(bench, name, scene, width, height, fresh):
+    """Time to a clean image for every driver and for POV-Ray at one scene and size. Returns label -> result."""
+    tag = f"{name}_eq_{width}x{height}"
+    progress(f"{name} {width}x{height} equal quality: references")
+    reference, reference_record = whitted_reference(bench, scene, width, height, fresh)
+    pov = pov_reference = pov_reference_record = None
+    if bench.exporter:
+        pov = export_pov(bench.exporter, scene, bench.work, tag, width, height)
+        pov_reference, pov_reference_record = povray_reference(pov, bench.work, width, height, fresh)
+
+    ours = {d.label: {"reference": reference_record, "tries": [], "reached": None, "time_to_clean_s": None}
+            for d in bench.drivers}
+    theirs = {"reference": pov_reference_record, "tries": [], "reached_threshold": None, "time_to_clean_s": None}
+    defaults = {}
+    # Rounds: each driver's next whitted try, then POV-Ray's next threshold, until all are clean or out of tries.
+    for step in range(max(len(WHITTED_TRIES), len(POVRAY_THRESHOLDS))):
+        for d in bench.drivers:
+            mine = ours[d.label]
+            if mine["reached"] is not None or step >= len(WHITTED_TRIES):
+                continue
+            image = os.path.join(bench.work, f"{tag}_{d.label}_try{step}.png")
+            progress(f"{name} {width}x{height} whitted {d.label} {' '.join(WHITTED_TRIES[step]) or 'default'}")
+            result = run_whitted(bench.whitted, d, scene, image, width, height, WHITTED_TRIES[step])
+            result["psnr_db"] = psnr(image, reference)
+            mine["tries"].append(result)
+            if step == 0:
+                defaults[d.label] = image
+            if clean(result["psnr_db"]):
+                mine["reached"] = step
+                mine["time_to_clean_s"] = result["wall_s"]
+        if pov and step < len(POVRAY_THRESHOLDS) and theirs["reached_threshold"] is None:
+            threshold = POVRAY_THRESHOLDS[step]
+            image = os.path.join(bench.work, f"{tag}_povray_A{threshold}.png")
+            progress(f"{name} {width}x{height} POV-Ray +A{threshold}")
+            result = run_povray(pov, image, width, height, [f"+A{threshold}", *POVRAY_ADAPTIVE])
+            result["threshold"] = threshold
+            result["psnr_db"] = psnr(image, pov_reference)
+            theirs["tries"].append(result)
+            if clean(result["psnr_db"]):
+                theirs["reached_threshold"] = threshold
+                theirs["time_to_clean_s"] = result["wall_s"]
+    return {d.label: equal_quality_entry(bench.drivers[0], d, name, width, height, ours[d.label],
+                                         theirs if pov else None, defaults) for d in bench.drivers}
+
+
+def equal_quality_entry(first, driver, name, width, height, mine, theirs, defaults):
+    """One driver's equal-quality result from its tries and POV-Ray's (None when skipped), with the ratios."""
+    entry = {"scene": name, "width": width, "height": height, "psnr_target_db": PSNR_TARGET_DB,
+             "whitted": mine, "povray": theirs}
+    if driver is not first and first.label in defaults and driver.label in defaults:
+        # The reference is the first driver's; how far this driver's own default render is from that driver's.
+        mine["default_psnr_against_" + first.label + "_db"] = psnr(defaults[driver.label], defaults[first.label])
+    if theirs and theirs["time_to_clean_s"] and mine["time_to_clean_s"]:
+        entry["povray_over_whitted"] = {"time_to_clean": theirs["time_to_clean_s"] / mine["time_to_clean_s"]}
+    if theirs and theirs["tries"] and mine["tries"]:
+        entry.setdefault("povray_over_whitted", {})["first_tries"] = (theirs["tries"][0]["wall_s"] /
+                                                                     mine["tries"][0]["wall_s"])
+    return entry
+
+
+def drag_proxy(bench, repeats):
+    """Render time of 640x360 at 1 spp (the window's frame in a camera drag), interleaved between drivers."""
+    progress("drag proxy")
+    width, height = DRAG_SIZE
+    times = {d.label: [] for d in bench.drivers}
+    walls = {d.label: [] for d in bench.drivers}
+    for _ in range(repeats):
+        for d in bench.drivers:
+            image = os.path.join(bench.work, f"drag_{d.label}.png")
+            result = run_whitted(bench.whitted, d, ROOM, image, width, height, ["--aa", "uniform", "--spp", "1"])
+            times[d.label].append(result["render_s"])
+            walls[d.label].append(result["wall_s"])
+    return {d.label: {"scene": "room", "width": width, "height": height, "spp": 1, "render_s": times[d.label],
+                      "render_median_s": statistics.median(times[d.label]), "render_min_s": min(times[d.label]),
+                      "wall_median_s": statistics.median(walls[d.label])} for d in bench.drivers}
