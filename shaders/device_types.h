@@ -37,7 +37,7 @@ WHITTED_CONST uint kBindingTlas = 10;
 // The BVH nodes, primitives, materials and lights once more, as storage buffers: the shader
 // variant built with -DWHITTED_SCENE_STORAGE_BUFFERS reads them from here, for
 // drivers that load a storage buffer faster than a device address (Mesa
-// 22.3's lavapipe; shaders/scene.glsl, shaders/intersect.glsl).
+// 22.3's lavapipe; shaders/scene.glsl, shaders/bvh.glsl).
 WHITTED_CONST uint kBindingBvhNodeBuffer = 12;  // BvhNode[] (the buffer at FrameParams.addresses0.zw)
 WHITTED_CONST uint kBindingPrimitiveBuffer = 13;  // Primitive[] (the buffer at FrameParams.addresses0.xy)
 WHITTED_CONST uint kBindingMaterialBuffer = 14;   // Material[] (FrameParams.addresses1.xy)

@@ -1,7 +1,8 @@
 // Traversal through the device's acceleration structures (VK_KHR_ray_query),
 // included by intersect.glsl in the shader variant compiled with
-// -DWHITTED_RAY_QUERY in place of the BVH walk. The renderer builds
-// (host/accel/acceleration_structure.cpp) a TLAS over at most two BLASes:
+// -DWHITTED_RAY_QUERY in place of the BVH walk (its twin, bvh.glsl). The
+// renderer builds (host/accel/acceleration_structure.cpp) a TLAS over at
+// most two BLASes:
 // the bounded triangles as native triangles and the other bounded shapes
 // (spheres, cylinders, boxes, csg objects) as AABBs. Both BLASes list every bounded
 // primitive in the order of the Primitive array, those of the other kind

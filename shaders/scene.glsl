@@ -36,7 +36,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Bv
 // The same arrays through descriptors (device_types.h,
 // kBindingBvhNodeBuffer...), read in the variant built with
 // -DWHITTED_SCENE_STORAGE_BUFFERS only: the BVH walk's nodes
-// (shaders/intersect.glsl) and every primitive, material and light.
+// (shaders/bvh.glsl) and every primitive, material and light.
 layout(std430, set = 0, binding = kBindingBvhNodeBuffer) readonly buffer BvhNodeBlock { BvhNode bvhNodeBuffer[]; };
 layout(std430, set = 0, binding = kBindingPrimitiveBuffer) readonly buffer PrimitiveBlock {
     Primitive primitiveBuffer[];
