@@ -102,37 +102,16 @@ vec3 normalMapped(uint slot, float strength, SurfaceUv s, vec3 ns, float lod) {
 
 // Signed curvature of primitive `prim` at p where its geometric normal is n,
 // positive where the surface is convex towards n (the outside of spheres
-// and cylinders): +-1/r on spheres and cylinder sides (negative where n
-// points towards the centre or axis: a sphere or cylinder subtracted by
-// CSG, whose surface faces into the removed volume), 0 on flat shapes, and
-// on smooth mesh triangles the mean over the edges of
-// (n_j - n_i) . (p_j - p_i) / |p_j - p_i|^2 with the vertex normals turned to
-// the winding's side (1/r exactly on a sphere's tessellation).
+// and cylinders): each shape's own function (shaders/shapes/), 0 on flat
+// shapes (planes, boxes, flat triangles).
 float surfaceCurvature(Primitive prim, vec3 n, vec3 p) {
     switch (prim.info.x) {
-        case kShapeSphere: return (dot(n, p - prim.a.xyz) < 0.0 ? -1.0 : 1.0) / prim.a.w;
-        case kShapeCylinder: {
-            if (abs(dot(n, prim.b.xyz)) > 0.5) return 0.0;  // a cap
-            vec3 radial = p - prim.a.xyz;
-            radial -= dot(radial, prim.b.xyz) * prim.b.xyz;
-            return (dot(n, radial) < 0.0 ? -1.0 : 1.0) / prim.a.w;
-        }
+        case kShapeSphere: return sphereCurvature(prim.a.xyz, prim.a.w, n, p);
+        case kShapeCylinder: return cylinderCurvature(prim.a.xyz, prim.b.xyz, prim.a.w, n, p);
         case kShapeTriangle: {
             if (prim.info.z != kTriangleSmooth) return 0.0;
-            vec3 p[3] = vec3[3](prim.a.xyz, prim.b.xyz, prim.c.xyz);
-            vec3 v[3] = vec3[3](decodeOctahedral(floatBitsToUint(prim.a.w)),
-                                decodeOctahedral(floatBitsToUint(prim.b.w)),
-                                decodeOctahedral(floatBitsToUint(prim.c.w)));
-            vec3 ng = cross(p[1] - p[0], p[2] - p[0]);
-            float k = 0.0;
-            for (int i = 0; i < 3; ++i) {
-                int j = i == 2 ? 0 : i + 1;
-                vec3 ni = dot(v[i], ng) < 0.0 ? -v[i] : v[i];
-                vec3 nj = dot(v[j], ng) < 0.0 ? -v[j] : v[j];
-                vec3 e = p[j] - p[i];
-                k += dot(nj - ni, e) / dot(e, e);
-            }
-            return (dot(n, ng) < 0.0 ? -k : k) / 3.0;
+            uvec3 packedNormals = uvec3(floatBitsToUint(prim.a.w), floatBitsToUint(prim.b.w), floatBitsToUint(prim.c.w));
+            return triangleCurvature(prim.a.xyz, prim.b.xyz, prim.c.xyz, packedNormals, n);
         }
     }
     return 0.0;
