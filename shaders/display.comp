@@ -3,22 +3,18 @@
 // the 8-bit image shown, one invocation per pixel. Every pixel is divided by
 // its own sample count (the w of the colour layer), so a pass that is only
 // partly done shows right. Colour layers are clamped and sRGB-encoded
-// (IEC 61966-2-1) exactly as io/image_io.cpp writes PNG files; the data
+// (color.glsl) exactly as io/image_io.cpp writes PNG files; the data
 // layers follow output/aov_output.cpp.
 #extension GL_GOOGLE_include_directive : require
 
 #include "device_types.h"
+#include "color.glsl"
 
 layout(local_size_x = kWorkgroupSize, local_size_y = kWorkgroupSize, local_size_z = 1) in;
 
 layout(std430, binding = kBindingDisplayInput) readonly buffer Sums { vec4 sums[]; };
 layout(std430, binding = kBindingDisplayOutput) writeonly buffer Pixels { uint pixels[]; };
 layout(push_constant) uniform Push { DisplayParams display; };
-
-float linearToSrgb(float v) {
-    v = clamp(v, 0.0, 1.0);
-    return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
-}
 
 uint packRgba8(vec3 v) {
     uvec3 b = uvec3(round(clamp(v, 0.0, 1.0) * 255.0));
@@ -37,7 +33,7 @@ void main() {
     if (samples > 0.0) {
         if (display.view.x == kDisplayColor) {
             vec3 mean = s.rgb / samples;
-            shown = vec3(linearToSrgb(mean.r), linearToSrgb(mean.g), linearToSrgb(mean.b));
+            shown = linearToSrgb(mean);
         } else if (display.view.x == kDisplayScalar) {
             shown = vec3(s[display.view.z] / samples * display.scale.x);
         } else if (display.view.x == kDisplayDepth) {

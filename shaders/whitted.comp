@@ -9,6 +9,7 @@
 
 #include "device_types.h"
 #include "camera.glsl"
+#include "color.glsl"
 #include "sampling.glsl"
 #include "shading.glsl"
 
@@ -41,15 +42,9 @@ struct SampleSpread {
     bool mixed;   // the samples saw more than one object (or the background)
 };
 
-// Colour as a display shows it (clamped, sRGB curve): differences in it are
-// what a viewer sees, so the refinement threshold is compared there.
-vec3 displayEncode(vec3 c) {
-    c = clamp(c, 0.0, 1.0);
-    return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, greaterThan(c, vec3(0.0031308)));
-}
-
+// The samples' colours are compared as a display shows them (color.glsl).
 void addToSpread(inout SampleSpread spread, vec3 color, uint object, bool firstSample) {
-    vec3 shown = displayEncode(color);
+    vec3 shown = linearToSrgb(color);
     if (firstSample) {
         spread.lo = shown;
         spread.hi = shown;
@@ -286,7 +281,7 @@ void main() {
     }
     if ((flags & kTileGuide) != 0u) {
         uvec4 g = tileParams.guideRect;
-        guide[(pixel.y - g.y) * g.z + (pixel.x - g.x)] = uvec4(floatBitsToUint(displayEncode(color)), spread.object);
+        guide[(pixel.y - g.y) * g.z + (pixel.x - g.x)] = uvec4(floatBitsToUint(linearToSrgb(color)), spread.object);
     }
     if ((flags & kTileStats) != 0u) {
         // Statistics of this dispatch's samples, merged with the earlier
