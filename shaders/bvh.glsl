@@ -26,8 +26,8 @@
 
 // Entry distance of the ray into a node's box within [0, tMax], or -1.
 float intersectNodeBounds(BvhNode node, vec3 origin, vec3 invDir, float tMax) {
-    vec3 t0 = (node.lo.xyz - origin) * invDir;
-    vec3 t1 = (node.hi.xyz - origin) * invDir;
+    vec3 t0 = (node.lo - origin) * invDir;
+    vec3 t1 = (node.hi - origin) * invDir;
     vec3 tNear = min(t0, t1), tFar = max(t0, t1);
     float enter = max(max(tNear.x, tNear.y), max(tNear.z, 0.0));
     float exit = min(min(tFar.x, tFar.y), min(tFar.z, tMax));
@@ -63,7 +63,7 @@ vec3 safeInverse(vec3 d) {
 // halves for all lanes under masks anyway, so an iteration costs one node
 // step plus one primitive test and the iteration count is the most work any
 // lane has, where nested loops pay each inner loop's body at least once per
-// outer iteration. Stack entries are an inner node's lo.w (its first child
+// outer iteration. Stack entries are an inner node's `first` (its first child
 // slot and child count, whose boxes are tested next) or kLeafEntry | the
 // leaf's index.
 // Returns false when a shadow ray is blocked.
@@ -71,13 +71,13 @@ const uint kLeafEntry = 0x80000000u;
 const uint kNoEntry = 0xffffffffu;
 
 uint entryOf(BvhNode node, uint index) {
-    return floatBitsToUint(node.hi.w) > 0u ? (kLeafEntry | index) : floatBitsToUint(node.lo.w);
+    return node.primitiveCount > 0u ? (kLeafEntry | index) : node.first;
 }
 
 bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
                    inout vec3 opticalDepth) {
     if (!traverseList(ray, tMax, shadow, hit, transmittance, opticalDepth)) return false;
-    if (kShapeMask == 0u || params.accel.x == 0u) return true;
+    if (kShapeMask == 0u || params.bvhNodeCount == 0u) return true;
     float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
     bool blocked = false;
 
@@ -85,7 +85,7 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     uint stack[kBvhWideStackSize];
     float stackT[kBvhWideStackSize];  // entry distance of each stacked node (closest hit)
     int top = 0;
-    uint children = kNoEntry;  // lo.w of the inner node to expand next: first child slot, child count
+    uint children = kNoEntry;  // `first` of the inner node to expand next: first child slot, child count
     uint prim = 0u, primEnd = 0u;
     if (intersectNodeBounds(bvhWalkNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0) {
         stackT[top] = 0.0;
@@ -159,8 +159,8 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                 // Only the two words needed: a whole node would be a
                 // gather of eight per lane.
                 uint leaf = entry & ~kLeafEntry;
-                prim = floatBitsToUint(bvhWalkNodes[leaf].lo.w);
-                primEnd = prim + floatBitsToUint(bvhWalkNodes[leaf].hi.w);
+                prim = bvhWalkNodes[leaf].first;
+                primEnd = prim + bvhWalkNodes[leaf].primitiveCount;
             } else {
                 children = entry;
             }

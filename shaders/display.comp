@@ -23,24 +23,24 @@ uint packRgba8(vec3 v) {
 
 void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
-    uint width = display.size.x, height = display.size.y;
+    uint width = display.width, height = display.height;
     if (pixel.x >= width || pixel.y >= height) return;
     uint index = pixel.y * width + pixel.x;
     uint count = width * height;
     float samples = sums[kAovColor * count + index].w;
-    vec4 s = sums[display.view.y * count + index];
+    vec4 s = sums[display.layer * count + index];
     vec3 shown = vec3(0.0);
     if (samples > 0.0) {
-        if (display.view.x == kDisplayColor) {
+        if (display.kind == kDisplayColor) {
             vec3 mean = s.rgb / samples;
             shown = linearToSrgb(mean);
-        } else if (display.view.x == kDisplayScalar) {
-            shown = vec3(s[display.view.z] / samples * display.scale.x);
-        } else if (display.view.x == kDisplayDepth) {
+        } else if (display.kind == kDisplayScalar) {
+            shown = vec3(s[display.channel] / samples * display.scalarScale);
+        } else if (display.kind == kDisplayDepth) {
             float hits = sums[kAovCoefs1 * count + index].w;
             if (hits > 0.0) {
                 float d = s.w / hits;
-                shown = vec3(display.scale.y / (display.scale.y + d));
+                shown = vec3(display.depthMedian / (display.depthMedian + d));
             }
         } else if (s.w > 0.0) {
             shown = s.xyz / s.w * 0.5 + 0.5;

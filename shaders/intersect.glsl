@@ -34,7 +34,7 @@ layout(constant_id = kSpecListShapeMask) const uint kListShapeMask = 0x3fu;
 bool intersectPrimitiveAt(uint i, const uint mask, Ray ray, float tMin, inout float tHit, out vec3 normal) {
     normal = vec3(0.0);
     bool single = bitCount(mask) == 1;
-    uint tag = single ? findLSB(mask) : primitives[i].info.x;
+    uint tag = single ? findLSB(mask) : primitives[i].shape;
     if ((mask & (1u << kShapeSphere)) != 0u && tag == kShapeSphere) {
         vec4 a = primitives[i].a;
         return intersectSphere(a.xyz, a.w, ray, tMin, tHit, normal);
@@ -74,15 +74,15 @@ void testCsg(uint i, Ray ray, float tMax, const bool shadow, inout Hit hit, inou
     for (uint crossing = 0u; crossing < 2u * kCsgMaxLeaves; ++crossing) {
         float t = tMax;
         if (!intersectCsg(i, ray, tFrom, t, n, leaf)) return;
-        uint k = primitives[leaf].info.y;
-        float kt = materials[k].coefs1.y;
+        uint k = primitives[leaf].material;
+        float kt = materials[k].kt;
         if (!kSceneHasTransparency || kt <= 0.0) {
             blocked = true;
             return;
         }
         vec3 cd = crossingColour(leaf, k, ray.origin + t * ray.dir, n);
-        transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
-        opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
+        transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd);
+        opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
         tFrom = t;
     }
 }
@@ -95,7 +95,7 @@ void testCsg(uint i, Ray ray, float tMax, const bool shadow, inout Hit hit, inou
 // (tFrom). Returns whether the next primitive is due.
 bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shadow, inout Hit hit,
                    inout vec3 transmittance, inout vec3 opticalDepth, inout float tFrom, inout bool blocked) {
-    if ((mask & (1u << kShapeCsg)) != 0u && (bitCount(mask) == 1 || primitives[i].info.x == kShapeCsg)) {
+    if ((mask & (1u << kShapeCsg)) != 0u && (bitCount(mask) == 1 || primitives[i].shape == kShapeCsg)) {
         testCsg(i, ray, tMax, shadow, hit, transmittance, opticalDepth, blocked);
         return true;
     }
@@ -114,15 +114,15 @@ bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shad
             blocked = true;
             return true;
         }
-        uint k = primitives[i].info.y;
-        float kt = materials[k].coefs1.y;
+        uint k = primitives[i].material;
+        float kt = materials[k].kt;
         if (kt <= 0.0) {
             blocked = true;
         } else {
             // The pigment at the crossing, as POV-Ray's filter takes it.
             vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
-            transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
-            opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
+            transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd);
+            opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
         }
     }
     if (crossed && tFrom == 0.0) {
@@ -140,7 +140,7 @@ bool traverseList(Ray ray, float tMax, const bool shadow, inout Hit hit, inout v
     float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
     bool blocked = false;
     if (kListShapeMask != 0u) {
-        uint i = params.accel.y, end = params.accel.y + params.accel.z;
+        uint i = params.firstListPrimitive, end = params.firstListPrimitive + params.listPrimitiveCount;
         while (i < end) {
             if (testPrimitive(i, kListShapeMask, ray, tMax, shadow, hit, transmittance, opticalDepth, tFrom,
                               blocked)) ++i;

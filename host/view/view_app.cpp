@@ -56,10 +56,15 @@ std::vector<std::filesystem::path> textureFiles(const Scene& scene) {
 }
 
 std::vector<LayerView> layerViews(int width, int height, int bounces) {
-    glm::uvec4 size(width, height, 0, 0);
     auto make = [&](const char* name, uint32_t kind, uint32_t layer, uint32_t channel, float scale) {
-        return LayerView{
-            name, {.view = glm::uvec4(kind, layer, channel, 0), .size = size, .scale = glm::vec4(scale, 1, 0, 0)}};
+        return LayerView{name,
+                         {.kind = kind,
+                          .layer = layer,
+                          .channel = channel,
+                          .width = uint32_t(width),
+                          .height = uint32_t(height),
+                          .scalarScale = scale,
+                          .depthMedian = 1}};
     };
     std::vector<LayerView> views = {make("color", gpu::kDisplayColor, gpu::kAovColor, 0, 1),
             make("ambient", gpu::kDisplayColor, gpu::kAovAmbient, 0, 1),
@@ -594,7 +599,7 @@ ViewOutcome ViewApp::run() {
         progressive_.frameDone(traceSeconds, recorded);
 
         gpu::DisplayParams display = layers_[layer_].params;
-        display.scale.y = depthScale_;
+        display.depthMedian = depthScale_;
         presenter_.recordDisplay(display);
         bool captureWindow = std::any_of(pendingShots_.begin(), pendingShots_.end(), [](auto& s) { return s.second; });
         presenter_.recordOverlay(drawData, captureWindow);
