@@ -3,22 +3,18 @@
 // the 8-bit image shown, one invocation per pixel. Every pixel is divided by
 // its own sample count (the w of the colour layer), so a pass that is only
 // partly done shows right. Colour layers are clamped and sRGB-encoded
-// (IEC 61966-2-1) exactly as io/image_io.cpp writes PNG files; the data
+// (color.glsl) exactly as io/image_io.cpp writes PNG files; the data
 // layers follow output/aov_output.cpp.
 #extension GL_GOOGLE_include_directive : require
 
 #include "device_types.h"
+#include "color.glsl"
 
 layout(local_size_x = kWorkgroupSize, local_size_y = kWorkgroupSize, local_size_z = 1) in;
 
 layout(std430, binding = kBindingDisplayInput) readonly buffer Sums { vec4 sums[]; };
 layout(std430, binding = kBindingDisplayOutput) writeonly buffer Pixels { uint pixels[]; };
 layout(push_constant) uniform Push { DisplayParams display; };
-
-float linearToSrgb(float v) {
-    v = clamp(v, 0.0, 1.0);
-    return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1.0 / 2.4) - 0.055;
-}
 
 uint packRgba8(vec3 v) {
     uvec3 b = uvec3(round(clamp(v, 0.0, 1.0) * 255.0));
@@ -27,24 +23,24 @@ uint packRgba8(vec3 v) {
 
 void main() {
     uvec2 pixel = gl_GlobalInvocationID.xy;
-    uint width = display.size.x, height = display.size.y;
+    uint width = display.width, height = display.height;
     if (pixel.x >= width || pixel.y >= height) return;
     uint index = pixel.y * width + pixel.x;
     uint count = width * height;
     float samples = sums[kAovColor * count + index].w;
-    vec4 s = sums[display.view.y * count + index];
+    vec4 s = sums[display.layer * count + index];
     vec3 shown = vec3(0.0);
     if (samples > 0.0) {
-        if (display.view.x == kDisplayColor) {
+        if (display.kind == kDisplayColor) {
             vec3 mean = s.rgb / samples;
-            shown = vec3(linearToSrgb(mean.r), linearToSrgb(mean.g), linearToSrgb(mean.b));
-        } else if (display.view.x == kDisplayScalar) {
-            shown = vec3(s[display.view.z] / samples * display.scale.x);
-        } else if (display.view.x == kDisplayDepth) {
+            shown = linearToSrgb(mean);
+        } else if (display.kind == kDisplayScalar) {
+            shown = vec3(s[display.channel] / samples * display.scalarScale);
+        } else if (display.kind == kDisplayDepth) {
             float hits = sums[kAovCoefs1 * count + index].w;
             if (hits > 0.0) {
                 float d = s.w / hits;
-                shown = vec3(display.scale.y / (display.scale.y + d));
+                shown = vec3(display.depthMedian / (display.depthMedian + d));
             }
         } else if (s.w > 0.0) {
             shown = s.xyz / s.w * 0.5 + 0.5;

@@ -3,16 +3,16 @@
 #define WHITTED_MATERIAL_GLSL
 
 // The colour Cd at surface point p: the diffuse colour, or with a solid
-// checker (checker.w = cell size S > 0) the checker colour in the cells
+// checker (cell size S > 0) the checker colour in the cells
 // whose coordinates floor((p - origin) / S + 0.001) have an odd sum. This
 // is POV-Ray's checker pattern scaled by S, its tolerance included, so a
 // face lying on a cell boundary (a box's min-corner faces) falls wholly in
 // the cells above it instead of speckling.
-vec3 pigment(vec3 diffuse, vec4 checker, vec3 origin, vec3 p) {
-    if (checker.w <= 0.0) return diffuse;
-    vec3 cell = floor((p - origin) / checker.w + 0.001);
+vec3 pigment(vec3 diffuse, vec3 checkerColor, float checkerSize, vec3 origin, vec3 p) {
+    if (checkerSize <= 0.0) return diffuse;
+    vec3 cell = floor((p - origin) / checkerSize + 0.001);
     bool odd = fract((cell.x + cell.y + cell.z) * 0.5) > 0.25;
-    return odd ? checker.rgb : diffuse;
+    return odd ? checkerColor : diffuse;
 }
 
 #endif

@@ -1,7 +1,8 @@
 // Traversal through the device's acceleration structures (VK_KHR_ray_query),
 // included by intersect.glsl in the shader variant compiled with
-// -DWHITTED_RAY_QUERY in place of the BVH walk. The renderer builds
-// (host/accel/acceleration_structure.cpp) a TLAS over at most two BLASes:
+// -DWHITTED_RAY_QUERY in place of the BVH walk (its twin, bvh.glsl). The
+// renderer builds (host/accel/acceleration_structure.cpp) a TLAS over at
+// most two BLASes:
 // the bounded triangles as native triangles and the other bounded shapes
 // (spheres, cylinders, boxes, csg objects) as AABBs. Both BLASes list every bounded
 // primitive in the order of the Primitive array, those of the other kind
@@ -28,11 +29,11 @@
 // the crossing, and the signed optical depth of absorbing objects (leaving
 // adds sigma t, entering subtracts it). False when the surface is opaque.
 bool filterCrossing(uint i, Ray ray, float t, vec3 n, inout vec3 transmittance, inout vec3 opticalDepth) {
-    uint k = primitives[i].info.y;
-    float kt = materials[k].coefs1.y;
+    uint k = primitives[i].material;
+    float kt = materials[k].kt;
     vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
-    transmittance *= kt * mix(vec3(1.0), cd, materials[k].coefs0.y);
-    opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption.rgb;
+    transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd);
+    opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
     return kt > 0.0;
 }
 
@@ -55,11 +56,11 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
         bool box = rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionAABBEXT;
         // A triangle's stand-in in the AABB structure (an empty box at a
         // vertex, host/accel/acceleration_structure.cpp) is no candidate.
-        if (mixed && box && primitives[i].info.x == kShapeTriangle) continue;
+        if (mixed && box && primitives[i].shape == kShapeTriangle) continue;
         vec3 n;
         // A csg object's AABB: intersectCsg (shaders/shapes/csg.glsl) and,
         // for shadow rays, every crossing of its surface (testCsg).
-        bool csg = box && (kShapeMask & (1u << kShapeCsg)) != 0u && primitives[i].info.x == kShapeCsg;
+        bool csg = box && (kShapeMask & (1u << kShapeCsg)) != 0u && primitives[i].shape == kShapeCsg;
         if (filtering) {
             if (csg) {
                 testCsg(i, ray, tMax, true, hit, transmittance, opticalDepth, blocked);

@@ -36,7 +36,7 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Bv
 // The same arrays through descriptors (device_types.h,
 // kBindingBvhNodeBuffer...), read in the variant built with
 // -DWHITTED_SCENE_STORAGE_BUFFERS only: the BVH walk's nodes
-// (shaders/intersect.glsl) and every primitive, material and light.
+// (shaders/bvh.glsl) and every primitive, material and light.
 layout(std430, set = 0, binding = kBindingBvhNodeBuffer) readonly buffer BvhNodeBlock { BvhNode bvhNodeBuffer[]; };
 layout(std430, set = 0, binding = kBindingPrimitiveBuffer) readonly buffer PrimitiveBlock {
     Primitive primitiveBuffer[];
@@ -48,13 +48,13 @@ layout(std430, set = 0, binding = kBindingLightBuffer) readonly buffer LightBloc
 #define materials materialBuffer
 #define lights lightBuffer
 #else
-#define primitives (PrimitiveArray(params.addresses0.xy).v)
-#define materials (MaterialArray(params.addresses1.xy).v)
-#define lights (LightArray(params.addresses1.zw).v)
+#define primitives (PrimitiveArray(params.primitiveAddress).v)
+#define materials (MaterialArray(params.materialAddress).v)
+#define lights (LightArray(params.lightAddress).v)
 #endif
-#define bvhNodes (BvhNodeArray(params.addresses0.zw).v)
+#define bvhNodes (BvhNodeArray(params.bvhNodeAddress).v)
 // The csg objects' programs (shaders/shapes/csg.glsl).
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer CsgNodeArray { CsgNode v[]; };
-#define csgNodes (CsgNodeArray(params.addresses2.xy).v)
+#define csgNodes (CsgNodeArray(params.csgNodeAddress).v)
 
 #endif

@@ -17,17 +17,17 @@ struct LocalShading {
 // nothing even where the shading normal leans towards it.
 LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
     LocalShading s;
-    s.ambient = m.coefs0.x * m.diffuse.rgb * params.ambientLight.rgb;
+    s.ambient = m.ka * m.diffuse * params.ambientLight;
     s.diffuse = vec3(0.0);
     s.specular = vec3(0.0);
     s.shadowRays = 0u;
-    float kd = m.coefs0.y, ks = m.coefs0.z, shininess = m.coefs0.w;
-    uint lightCount = params.sizes.w;
+    float kd = m.kd, ks = m.ks, shininess = m.shininess;
+    uint lightCount = params.lightCount;
 #ifdef WHITTED_PROFILE_NO_LIGHTS  // tools/profile_shader.sh: ambient only, no light loop
     lightCount = 0u;
 #endif
     for (uint i = 0u; i < lightCount; ++i) {
-        vec3 toLight = lights[i].position.xyz - p;
+        vec3 toLight = lights[i].position - p;
         float dist = length(toLight);
         vec3 l = toLight / dist;
         float nDotL = dot(n, l);
@@ -39,11 +39,11 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
         vec3 visibility = shadowTransmittance(Ray(p, l), dist);
 #endif
         if (all(equal(visibility, vec3(0.0)))) continue;
-        vec3 light = visibility * lights[i].color.rgb;
-        s.diffuse += light * kd * m.diffuse.rgb * nDotL;
+        vec3 light = visibility * lights[i].color;
+        s.diffuse += light * kd * m.diffuse * nDotL;
         if (ks > 0.0) {
             vec3 r = reflect(-l, n);
-            s.specular += light * ks * m.specular.rgb * pow(max(dot(r, viewDir), 0.0), shininess);
+            s.specular += light * ks * m.specular * pow(max(dot(r, viewDir), 0.0), shininess);
         }
     }
     return s;

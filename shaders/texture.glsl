@@ -28,33 +28,33 @@ layout(set = 0, binding = kBindingTextures) uniform sampler2D textures[kMaxTextu
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer SurfaceAttributesArray {
     SurfaceAttributes v[];
 };
-#define surfaceAttributes (SurfaceAttributesArray(params.addresses2.zw).v)
+#define surfaceAttributes (SurfaceAttributesArray(params.attributeAddress).v)
 
 // Texture coordinates of primitive `index` at its point p; n is the shape's
 // geometric normal there (as the intersection gave it), which tells a
 // box's faces and a cylinder's caps apart. textureScale: the material's
 // (planes only).
 SurfaceUv surfaceUv(Primitive prim, uint index, vec3 n, vec3 p, float textureScale) {
-    switch (prim.info.x) {
+    switch (prim.shape) {
         case kShapeSphere: return sphereUv(prim.a.xyz, prim.a.w, p);
         case kShapeCylinder: return cylinderUv(prim.a.xyz, prim.b.xyz, prim.a.w, prim.b.w, n, p);
         case kShapePlane: return planeUv(prim.a.xyz, prim.b.xyz, textureScale, p);
         case kShapeBox: return boxUv(prim.a.xyz, prim.b.xyz, n, p);
     }
     // A triangle of a textured mesh (the loader refuses textures on others).
-    if (all(equal(params.addresses2.zw, uvec2(0u))))
+    if (all(equal(params.attributeAddress, uvec2(0u))))
         return triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, vec2(0.0), vec2(0.0), vec2(0.0), p);
     SurfaceAttributes at = surfaceAttributes[index];
-    SurfaceUv s = triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, at.uv01.xy, at.uv01.zw, at.uv2.xy, p);
+    SurfaceUv s = triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, at.uv0, at.uv1, at.uv2, p);
     // A model file's vertex tangents, interpolated as vertex normals are.
-    if (at.tangents.w != 0u) s.tangent = shadingNormalTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, at.tangents.xyz, p);
+    if (at.hasTangents != 0u) s.tangent = shadingNormalTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, at.tangents, p);
     return s;
 }
 
 // Mip level of texture `slot` for a cone `coneWidth` wide where it meets
 // the surface at cosine `cosine` (see the top of this file).
 float rayConeLod(uint slot, SurfaceUv s, float coneWidth, float cosine) {
-    if ((params.options.z & kOptionTextureLodZero) != 0u) return 0.0;
+    if ((params.options & kOptionTextureLodZero) != 0u) return 0.0;
     vec2 size = vec2(textureSize(textures[nonuniformEXT(slot)], 0));
     float worldArea = max(length(cross(s.dpdu, s.dpdv)), 1e-30);  // of one unit square of texture
     return log2(max(abs(coneWidth), 1e-30)) + 0.5 * log2(size.x * size.y / worldArea) - log2(max(cosine, 1e-6));
@@ -69,10 +69,10 @@ vec3 textureColor(uint slot, vec2 uv, float lod) {
 // geometric normal n, filters by (POV-Ray's filter): the pigment times the
 // diffuse texture, at mip level 0 (a shadow ray carries no cone).
 vec3 crossingColour(uint i, uint k, vec3 p, vec3 n) {
-    vec3 cd = pigment(materials[k].diffuse.rgb, materials[k].checker, materials[k].checkerOrigin.xyz, p);
-    uint slot = materials[k].textureSlots.x;
+    vec3 cd = pigment(materials[k].diffuse, materials[k].checkerColor, materials[k].checkerSize, materials[k].checkerOrigin, p);
+    uint slot = materials[k].diffuseTexture;
     if (slot != kNoTexture)
-        cd *= textureColor(slot, surfaceUv(primitives[i], i, n, p, materials[k].textureParams.x).uv, 0.0);
+        cd *= textureColor(slot, surfaceUv(primitives[i], i, n, p, materials[k].textureScale).uv, 0.0);
     return cd;
 }
 
@@ -102,37 +102,16 @@ vec3 normalMapped(uint slot, float strength, SurfaceUv s, vec3 ns, float lod) {
 
 // Signed curvature of primitive `prim` at p where its geometric normal is n,
 // positive where the surface is convex towards n (the outside of spheres
-// and cylinders): +-1/r on spheres and cylinder sides (negative where n
-// points towards the centre or axis: a sphere or cylinder subtracted by
-// CSG, whose surface faces into the removed volume), 0 on flat shapes, and
-// on smooth mesh triangles the mean over the edges of
-// (n_j - n_i) . (p_j - p_i) / |p_j - p_i|^2 with the vertex normals turned to
-// the winding's side (1/r exactly on a sphere's tessellation).
+// and cylinders): each shape's own function (shaders/shapes/), 0 on flat
+// shapes (planes, boxes, flat triangles).
 float surfaceCurvature(Primitive prim, vec3 n, vec3 p) {
-    switch (prim.info.x) {
-        case kShapeSphere: return (dot(n, p - prim.a.xyz) < 0.0 ? -1.0 : 1.0) / prim.a.w;
-        case kShapeCylinder: {
-            if (abs(dot(n, prim.b.xyz)) > 0.5) return 0.0;  // a cap
-            vec3 radial = p - prim.a.xyz;
-            radial -= dot(radial, prim.b.xyz) * prim.b.xyz;
-            return (dot(n, radial) < 0.0 ? -1.0 : 1.0) / prim.a.w;
-        }
+    switch (prim.shape) {
+        case kShapeSphere: return sphereCurvature(prim.a.xyz, prim.a.w, n, p);
+        case kShapeCylinder: return cylinderCurvature(prim.a.xyz, prim.b.xyz, prim.a.w, n, p);
         case kShapeTriangle: {
-            if (prim.info.z != kTriangleSmooth) return 0.0;
-            vec3 p[3] = vec3[3](prim.a.xyz, prim.b.xyz, prim.c.xyz);
-            vec3 v[3] = vec3[3](decodeOctahedral(floatBitsToUint(prim.a.w)),
-                                decodeOctahedral(floatBitsToUint(prim.b.w)),
-                                decodeOctahedral(floatBitsToUint(prim.c.w)));
-            vec3 ng = cross(p[1] - p[0], p[2] - p[0]);
-            float k = 0.0;
-            for (int i = 0; i < 3; ++i) {
-                int j = i == 2 ? 0 : i + 1;
-                vec3 ni = dot(v[i], ng) < 0.0 ? -v[i] : v[i];
-                vec3 nj = dot(v[j], ng) < 0.0 ? -v[j] : v[j];
-                vec3 e = p[j] - p[i];
-                k += dot(nj - ni, e) / dot(e, e);
-            }
-            return (dot(n, ng) < 0.0 ? -k : k) / 3.0;
+            if (prim.extra0 != kTriangleSmooth) return 0.0;
+            uvec3 packedNormals = uvec3(floatBitsToUint(prim.a.w), floatBitsToUint(prim.b.w), floatBitsToUint(prim.c.w));
+            return triangleCurvature(prim.a.xyz, prim.b.xyz, prim.c.xyz, packedNormals, n);
         }
     }
     return 0.0;

@@ -9,6 +9,7 @@
 
 #include "device_types.h"
 #include "camera.glsl"
+#include "color.glsl"
 #include "sampling.glsl"
 #include "shading.glsl"
 
@@ -41,15 +42,9 @@ struct SampleSpread {
     bool mixed;   // the samples saw more than one object (or the background)
 };
 
-// Colour as a display shows it (clamped, sRGB curve): differences in it are
-// what a viewer sees, so the refinement threshold is compared there.
-vec3 displayEncode(vec3 c) {
-    c = clamp(c, 0.0, 1.0);
-    return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, greaterThan(c, vec3(0.0031308)));
-}
-
+// The samples' colours are compared as a display shows them (color.glsl).
 void addToSpread(inout SampleSpread spread, vec3 color, uint object, bool firstSample) {
-    vec3 shown = displayEncode(color);
+    vec3 shown = linearToSrgb(color);
     if (firstSample) {
         spread.lo = shown;
         spread.hi = shown;
@@ -90,14 +85,14 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
                   inout SampleSpread spread, inout uvec3 rayCount) {
     PendingRay stack[kRayStackSize];
     int top = 0;
-    uint maxDepth = params.options.y;
+    uint maxDepth = params.maxDepth;
     uint nextSample = first;
-    vec2 size = vec2(params.sizes.xy);
+    vec2 size = vec2(params.width, params.height);
     vec3 sampleColor = vec3(0.0);  // the current sample's colour so far
     uint sampleObject = kNoObject;
     // A camera ray's cone: width 0 at the eye, spread one pixel's angle
     // (Ray Tracing Gems ch. 20, eq. 20.30: atan(2 tan(fov/2) / height)).
-    float pixelSpread = atan(2.0 * length(params.up.xyz) / size.y);
+    float pixelSpread = atan(2.0 * length(params.up) / size.y);
 
     while (top > 0 || nextSample < end) {
         if (top == 0) {
@@ -105,8 +100,8 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             sampleColor = vec3(0.0);
             sampleObject = kNoObject;
             vec2 offset = pixelSampleOffset(nextSample, n, pixelSeed);
-            Ray ray = generateCameraRay(vec2(pixel) + offset, size, params.eye.xyz, params.forward.xyz,
-                                        params.right.xyz, params.up.xyz);
+            Ray ray = generateCameraRay(vec2(pixel) + offset, size, params.eye, params.forward,
+                                        params.right, params.up);
             stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u, vec2(0.0, pixelSpread));
             rayCount.x += 1u;
             ++nextSample;
@@ -125,8 +120,8 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
 #endif
 
         Primitive prim = primitives[hit.primitive];
-        Material m = materials[prim.info.y];
-        float kr = m.coefs1.x, kt = m.coefs1.y, ior = m.coefs1.z;
+        Material m = materials[prim.material];
+        float kr = m.kr, kt = m.kt, ior = m.ior;
 
         // Which side was hit is decided by the geometric normal; shading
         // uses the normal facing the incoming ray (two-sided surfaces). The
@@ -139,20 +134,20 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         vec3 ns = shadingNormal(prim, p, n, -ray.dir);
         // Beer-Lambert: a ray that hits the inside of an object travelled
         // hit.t through it, so all that comes back along it is attenuated.
-        if (!frontFace) pending.weight *= exp(-m.absorption.rgb * hit.t);
-        m.diffuse.rgb = pigment(m.diffuse.rgb, m.checker, m.checkerOrigin.xyz, p);
+        if (!frontFace) pending.weight *= exp(-m.absorption * hit.t);
+        m.diffuse = pigment(m.diffuse, m.checkerColor, m.checkerSize, m.checkerOrigin, p);
         // The cone's footprint here filters the diffuse texture and the
         // normal map; a mapped normal is kept facing the viewer as
         // shadingNormal() keeps an interpolated one.
         float coneWidth = pending.cone.x + pending.cone.y * hit.t;
-        uvec2 slots = m.textureSlots.xy;
+        uvec2 slots = uvec2(m.diffuseTexture, m.normalMap);
         if (slots.x != kNoTexture || slots.y != kNoTexture) {
-            SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, m.textureParams.x);
+            SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, m.textureScale);
             float cosine = abs(dot(ray.dir, n));
             if (slots.x != kNoTexture)
-                m.diffuse.rgb *= textureColor(slots.x, s.uv, rayConeLod(slots.x, s, coneWidth, cosine));
+                m.diffuse *= textureColor(slots.x, s.uv, rayConeLod(slots.x, s, coneWidth, cosine));
             if (slots.y != kNoTexture) {
-                ns = normalMapped(slots.y, m.textureParams.y, s, ns, rayConeLod(slots.y, s, coneWidth, cosine));
+                ns = normalMapped(slots.y, m.normalStrength, s, ns, rayConeLod(slots.y, s, coneWidth, cosine));
                 float facing = dot(ns, -ray.dir);
                 if (facing < 1e-3) ns = normalize(ns + (1e-3 - facing) * -ray.dir);
             }
@@ -165,10 +160,10 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             result.components[1] += pending.weight * local.diffuse;
             result.components[2] += pending.weight * local.specular;
             result.normal += vec4(ns, 1.0);
-            result.coefs0 += vec4(m.coefs0.xyz, hit.t);
+            result.coefs0 += vec4(m.ka, m.kd, m.ks, hit.t);
             result.coefs1 += vec4(kr, kt, ior, 1.0);
             sampleColor += pending.weight * (local.ambient + local.diffuse + local.specular);
-            sampleObject = prim.info.y;
+            sampleObject = prim.material;
         } else {
             vec3 light = pending.weight * (local.ambient + local.diffuse + local.specular);
             result.components[pending.component - 1u] += light;
@@ -182,7 +177,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // would stay on the wrong side of the geometric surface fall back to
         // the geometric normal's.
         uint childDepth = pending.depth + 1u;
-        vec3 reflectWeight = kr * m.specular.rgb;
+        vec3 reflectWeight = kr * m.specular;
         // The children's cones start with this footprint; a curved surface
         // spreads them (paraxial optics, signed curvature k > 0 convex
         // towards the ray): a mirror adds 2 k w (focal length 1 / (2 k)),
@@ -221,24 +216,24 @@ void accumulate(uint layer, uint outPixels, uint o, vec4 v, bool overwrite) {
 }
 
 void main() {
-    uint flags = tileParams.samples.w;
+    uint flags = tileParams.flags;
     uvec2 pixel;
     uint entry = 0u;
     if ((flags & kTileList) != 0u) {
         // List mode: one invocation per listed pixel (adaptive refinement).
         uint index = gl_WorkGroupID.x * kListGroupSize + gl_LocalInvocationIndex;
-        if (index >= tileParams.tile.y) return;
-        entry = tileParams.tile.x + index;
+        if (index >= tileParams.listCount) return;
+        entry = tileParams.listFirst + index;
         uint packed = pixelList[entry];
         pixel = uvec2(packed & 0xffffu, packed >> 16);
     } else {
         uvec2 local = gl_GlobalInvocationID.xy;
-        if (local.x >= tileParams.tile.z || local.y >= tileParams.tile.w) return;
-        pixel = tileParams.tile.xy + local;
+        if (local.x >= tileParams.tileSize.x || local.y >= tileParams.tileSize.y) return;
+        pixel = tileParams.tileOrigin + local;
     }
     // The pattern of a pixel depends on its place in the whole image only,
     // so a region or a band traces exactly the samples a full render does.
-    uint pixelSeed = hashPcg((pixel.y * params.sizes.x + pixel.x) ^ params.options.w);
+    uint pixelSeed = hashPcg((pixel.y * params.width + pixel.x) ^ params.seed);
 
     SampleResult result;
     for (int i = 0; i < 5; ++i) result.components[i] = vec3(0.0);
@@ -248,24 +243,24 @@ void main() {
     SampleSpread spread = SampleSpread(vec3(0.0), vec3(0.0), kNoObject, false);
     uvec3 rayCount = uvec3(0u);
 
-    uint first = tileParams.samples.x;
-    uint count = tileParams.samples.y;
+    uint first = tileParams.firstSample;
+    uint count = tileParams.sampleCount;
     bool overwrite = (flags & kTileOverwrite) != 0u;
-    uvec4 rect = tileParams.outputRect;
-    bool inRect = all(greaterThanEqual(pixel, rect.xy)) && all(lessThan(pixel, rect.xy + rect.zw));
-    if ((params.options.z & kOptionWriteAovs) != 0u && inRect) {
+    uvec2 outputOrigin = tileParams.outputOrigin, outputSize = tileParams.outputSize;
+    bool inRect = all(greaterThanEqual(pixel, outputOrigin)) && all(lessThan(pixel, outputOrigin + outputSize));
+    if ((params.options & kOptionWriteAovs) != 0u && inRect) {
         // The split layers' sums start here (cleared or kept, with the
         // sample count in w, as accumulate() does for the other layers).
-        gSplitBounces = params.options.z >> kOptionAovBouncesShift;
-        gSplitPixels = rect.z * rect.w;
-        gSplitPixel = (pixel.y - rect.y) * rect.z + (pixel.x - rect.x);
+        gSplitBounces = params.options >> kOptionAovBouncesShift;
+        gSplitPixels = outputSize.x * outputSize.y;
+        gSplitPixel = (pixel.y - outputOrigin.y) * outputSize.x + (pixel.x - outputOrigin.x);
         for (uint k = 0u; k < 2u * gSplitBounces; ++k) {
             uint i = (kAovCount + k) * gSplitPixels + gSplitPixel;
             vec4 samples = vec4(0.0, 0.0, 0.0, float(count));
             outputLayers[i] = overwrite ? samples : outputLayers[i] + samples;
         }
     }
-    traceSamples(pixel, first, first + count, tileParams.samples.z, pixelSeed, result, spread, rayCount);
+    traceSamples(pixel, first, first + count, tileParams.patternSize, pixelSeed, result, spread, rayCount);
     vec3 color = result.components[0] + result.components[1] + result.components[2] +
                  result.components[3] + result.components[4];
 
@@ -273,10 +268,10 @@ void main() {
     // sample count (w of the colour layer). Guide pixels outside it (the
     // adaptive first pass's one-pixel border) write only the guide.
     if (inRect) {
-        uint outPixels = rect.z * rect.w;
-        uint o = (pixel.y - rect.y) * rect.z + (pixel.x - rect.x);
+        uint outPixels = outputSize.x * outputSize.y;
+        uint o = (pixel.y - outputOrigin.y) * outputSize.x + (pixel.x - outputOrigin.x);
         accumulate(kAovColor, outPixels, o, vec4(color, float(count)), overwrite);
-        if ((params.options.z & kOptionWriteAovs) != 0u) {
+        if ((params.options & kOptionWriteAovs) != 0u) {
             for (uint c = 0u; c < 5u; ++c)
                 accumulate(kAovAmbient + c, outPixels, o, vec4(result.components[c], float(count)), overwrite);
             accumulate(kAovNormal, outPixels, o, result.normal, overwrite);
@@ -285,8 +280,8 @@ void main() {
         }
     }
     if ((flags & kTileGuide) != 0u) {
-        uvec4 g = tileParams.guideRect;
-        guide[(pixel.y - g.y) * g.z + (pixel.x - g.x)] = uvec4(floatBitsToUint(displayEncode(color)), spread.object);
+        uvec2 g = pixel - tileParams.guideOrigin;
+        guide[g.y * tileParams.guideSize.x + g.x] = uvec4(floatBitsToUint(linearToSrgb(color)), spread.object);
     }
     if ((flags & kTileStats) != 0u) {
         // Statistics of this dispatch's samples, merged with the earlier

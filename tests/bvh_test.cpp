@@ -35,7 +35,7 @@ TEST(Bvh, BuilderInvariantsOnRandomBoxes) {
     };
     size_t leafPrimitives = 0;
     for (const gpu::BvhNode& n : bvh.nodes) {
-        uint32_t first = std::bit_cast<uint32_t>(n.lo.w), count = std::bit_cast<uint32_t>(n.hi.w);
+        uint32_t first = n.first, count = n.primitiveCount;
         if (count > 0) {
             leafPrimitives += count;
             for (uint32_t i = first; i < first + count; ++i) ASSERT_TRUE(contains(n, boxes[bvh.primitiveOrder[i]]));
@@ -80,8 +80,8 @@ TEST(Bvh, WideCollapseKeepsLeavesAndBounds) {
         auto leafRanges = [](const std::vector<gpu::BvhNode>& nodes) {
             std::vector<std::pair<uint32_t, uint32_t>> ranges;
             for (const gpu::BvhNode& node : nodes)
-                if (uint32_t count = std::bit_cast<uint32_t>(node.hi.w); count > 0)
-                    ranges.emplace_back(std::bit_cast<uint32_t>(node.lo.w), count);
+                if (uint32_t count = node.primitiveCount; count > 0)
+                    ranges.emplace_back(node.first, count);
             std::sort(ranges.begin(), ranges.end());
             return ranges;
         };
@@ -101,8 +101,8 @@ TEST(Bvh, WideCollapseKeepsLeavesAndBounds) {
             todo.pop_back();
             maxStack = std::max(maxStack, stacked);
             const gpu::BvhNode& node = wide[slot];
-            if (std::bit_cast<uint32_t>(node.hi.w) != 0u) continue;  // a leaf
-            uint32_t word = std::bit_cast<uint32_t>(node.lo.w);
+            if (node.primitiveCount != 0u) continue;  // a leaf
+            uint32_t word = node.first;
             uint32_t first = word & gpu::kBvhChildIndexMask, children = (word >> gpu::kBvhChildCountShift) + 2;
             ASSERT_LE(children, 4u);
             ASSERT_LE(first + children, wide.size());
@@ -111,7 +111,7 @@ TEST(Bvh, WideCollapseKeepsLeavesAndBounds) {
             for (uint32_t k = 0; k < children; ++k) {
                 const gpu::BvhNode& child = wide[first + k];
                 ASSERT_TRUE(contains(node, child));
-                leavesOnly = leavesOnly && std::bit_cast<uint32_t>(child.hi.w) != 0u;
+                leavesOnly = leavesOnly && child.primitiveCount != 0u;
             }
             EXPECT_TRUE(children == 4 || leavesOnly);
             // This entry popped, all children but the one walked pushed.

@@ -599,8 +599,8 @@ TEST(ViewProgressive, ReplacedSceneWithNewShapesRendersRight) {
     renderer.setScene(room);
     testContext().submitAndWait([&](vk::raii::CommandBuffer& cmd) {
         renderer.recordClear(cmd);
-        renderer.recordTile(cmd, {.tile = glm::uvec4(0, 0, 64, 48), .samples = glm::uvec4(0, 2, 0, 0),
-                                  .outputRect = glm::uvec4(0), .guideRect = glm::uvec4(0)});
+        renderer.recordTile(cmd, {.tileOrigin = glm::uvec2(0, 0), .tileSize = glm::uvec2(64, 48),
+                                  .firstSample = 0, .sampleCount = 2});
     });
     EXPECT_EQ(testContext().validationMessageCount(), 0u);
     RenderResult means = renderer.readMeans();

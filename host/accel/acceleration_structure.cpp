@@ -21,7 +21,7 @@ constexpr vk::BufferUsageFlags kBuildInput = vk::BufferUsageFlagBits::eShaderDev
 Aabb boundsOf(const gpu::Primitive& p) {
     Aabb b;
     glm::vec3 a(p.a), axis(p.b);
-    switch (p.info.x) {
+    switch (p.shape) {
         case gpu::kShapeSphere:
             b.extend(a - glm::vec3(p.a.w));
             b.extend(a + glm::vec3(p.a.w));
@@ -43,7 +43,7 @@ Aabb boundsOf(const gpu::Primitive& p) {
             b.extend(glm::vec3(p.b));
             break;
         default:
-            throw std::logic_error("acceleration structure: no bounds for shape " + std::to_string(p.info.x));
+            throw std::logic_error("acceleration structure: no bounds for shape " + std::to_string(p.shape));
     }
     glm::vec3 pad = 1e-6f * (glm::abs(b.min) + glm::abs(b.max)) + 1e-30f;
     b.min -= pad;
@@ -109,7 +109,7 @@ SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std:
     // and one AABB per primitive (empty but for the other bounded shapes), so
     // the query's primitive index is the Primitive's.
     bool anyTriangle = false, anyBox = false;
-    for (const gpu::Primitive& p : bounded) (p.info.x == gpu::kShapeTriangle ? anyTriangle : anyBox) = true;
+    for (const gpu::Primitive& p : bounded) (p.shape == gpu::kShapeTriangle ? anyTriangle : anyBox) = true;
     Buffer vertices, boxes;
     SceneAccelerationStructures result;
     std::vector<Build> builds;
@@ -122,7 +122,7 @@ SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std:
         // whole structures.
         std::vector<glm::vec3> v(size_t(count) * 3);
         for (uint32_t i = 0; i < count; ++i) {
-            bool triangle = bounded[i].info.x == gpu::kShapeTriangle;
+            bool triangle = bounded[i].shape == gpu::kShapeTriangle;
             v[3 * i] = glm::vec3(bounded[i].a);
             v[3 * i + 1] = triangle ? glm::vec3(bounded[i].b) : v[3 * i];
             v[3 * i + 2] = triangle ? glm::vec3(bounded[i].c) : v[3 * i];
@@ -145,7 +145,7 @@ SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std:
     if (anyBox) {
         std::vector<vk::AabbPositionsKHR> a(count);
         for (uint32_t i = 0; i < count; ++i) {
-            if (bounded[i].info.x == gpu::kShapeTriangle) {
+            if (bounded[i].shape == gpu::kShapeTriangle) {
                 // NaN (inactive, as the spec allows) made lavapipe (Mesa
                 // 25.0) miss every AABB of the structure; an empty box at
                 // the triangle's first vertex instead, which the shader

@@ -127,18 +127,18 @@ struct Builder {
 // Flattens depth first, the two children of a node in adjacent slots.
 void flatten(const BuildNode& node, uint32_t index, uint32_t depth, Bvh& bvh) {
     gpu::BvhNode& out = bvh.nodes[index];
-    out.lo = glm::vec4(node.bounds.min, 0.0f);
-    out.hi = glm::vec4(node.bounds.max, 0.0f);
+    out.lo = node.bounds.min;
+    out.hi = node.bounds.max;
     bvh.stats.maxDepth = std::max(bvh.stats.maxDepth, depth);
     if (!node.left) {
-        out.lo.w = std::bit_cast<float>(node.first);
-        out.hi.w = std::bit_cast<float>(node.count);
+        out.first = node.first;
+        out.primitiveCount = node.count;
         ++bvh.stats.leafCount;
         return;
     }
     uint32_t children = uint32_t(bvh.nodes.size());
-    out.lo.w = std::bit_cast<float>(children);
-    out.hi.w = std::bit_cast<float>(0u);
+    out.first = children;
+    out.primitiveCount = 0u;
     bvh.nodes.resize(bvh.nodes.size() + 2);
     flatten(*node.left, children, depth + 1, bvh);
     flatten(*node.right, children + 1, depth + 1, bvh);
@@ -150,14 +150,14 @@ double sahCost(const Bvh& bvh) {
     if (bvh.nodes.empty()) return 0;
     auto area = [](const gpu::BvhNode& n) {
         Aabb b;
-        b.min = glm::vec3(n.lo);
-        b.max = glm::vec3(n.hi);
+        b.min = n.lo;
+        b.max = n.hi;
         return double(b.surfaceArea());
     };
     double rootArea = std::max(area(bvh.nodes[0]), 1e-30);
     double cost = 0;
     for (const gpu::BvhNode& n : bvh.nodes) {
-        uint32_t count = std::bit_cast<uint32_t>(n.hi.w);
+        uint32_t count = n.primitiveCount;
         cost += area(n) / rootArea * (count ? double(count) : kTraversalCost);
     }
     return cost;
@@ -166,16 +166,16 @@ double sahCost(const Bvh& bvh) {
 // Area of a node's box (for the collapse's choice).
 float nodeArea(const gpu::BvhNode& n) {
     Aabb b;
-    b.min = glm::vec3(n.lo);
-    b.max = glm::vec3(n.hi);
+    b.min = n.lo;
+    b.max = n.hi;
     return b.surfaceArea();
 }
 
-bool isInner(const gpu::BvhNode& n) { return std::bit_cast<uint32_t>(n.hi.w) == 0u; }
+bool isInner(const gpu::BvhNode& n) { return n.primitiveCount == 0u; }
 
 // Fills the four child slots of wide node `slot` from binary inner node b.
 void collapseNode(std::span<const gpu::BvhNode> binary, uint32_t b, uint32_t slot, std::vector<gpu::BvhNode>& out) {
-    uint32_t first = std::bit_cast<uint32_t>(binary[b].lo.w);
+    uint32_t first = binary[b].first;
     std::vector<uint32_t> children = {first, first + 1};
     while (children.size() < 4) {
         int open = -1;
@@ -184,14 +184,14 @@ void collapseNode(std::span<const gpu::BvhNode> binary, uint32_t b, uint32_t slo
                 (open < 0 || nodeArea(binary[children[k]]) > nodeArea(binary[children[open]])))
                 open = k;
         if (open < 0) break;
-        uint32_t c = std::bit_cast<uint32_t>(binary[children[open]].lo.w);
+        uint32_t c = binary[children[open]].first;
         // In place, so that the children keep the binary tree's order.
         children[open] = c;
         children.insert(children.begin() + open + 1, c + 1);
     }
     uint32_t wide = uint32_t(out.size());
     uint32_t count = uint32_t(children.size());
-    out[slot].lo.w = std::bit_cast<float>(((count - 2u) << gpu::kBvhChildCountShift) | wide);
+    out[slot].first = ((count - 2u) << gpu::kBvhChildCountShift) | wide;
     out.resize(out.size() + count);
     for (uint32_t k = 0; k < children.size(); ++k) out[wide + k] = binary[children[k]];
     for (uint32_t k = 0; k < children.size(); ++k)

@@ -32,7 +32,7 @@ struct Bvh {
 Bvh buildBvh(std::span<const Aabb> bounds, unsigned threads = 0);
 
 // The binary tree collapsed into a 4-wide one, in the same 32-byte nodes:
-// an inner node's two to four children are adjacent slots, lo.w holding
+// an inner node's two to four children are adjacent slots, BvhNode::first holding
 // the first and their count (gpu::kBvhChildCountShift); leaves are the
 // binary tree's leaves unchanged (same primitive ranges). Each wide node
 // takes the two children of a binary node and, while it has fewer than

@@ -9,22 +9,64 @@
 
 namespace whitted {
 
-// The GLSL side reads these with std430 (storage) and std140 (uniform)
-// rules; vec4-only members make both match the C++ layout.
-static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, info) == 48);
-static_assert(sizeof(gpu::Material) == 144 && offsetof(gpu::Material, coefs1) == 48 &&
-              offsetof(gpu::Material, checker) == 64 && offsetof(gpu::Material, checkerOrigin) == 80 &&
-              offsetof(gpu::Material, absorption) == 96 && offsetof(gpu::Material, textureSlots) == 112 &&
-              offsetof(gpu::Material, textureParams) == 128);
-static_assert(sizeof(gpu::SurfaceAttributes) == 48 && offsetof(gpu::SurfaceAttributes, uv2) == 16 &&
-              offsetof(gpu::SurfaceAttributes, tangents) == 32);
-static_assert(sizeof(gpu::Light) == 32);
-static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, accel) == 112 &&
-              offsetof(gpu::FrameParams, addresses1) == 144 && offsetof(gpu::FrameParams, addresses2) == 160);
-static_assert(sizeof(gpu::BvhNode) == 32);
-static_assert(sizeof(gpu::CsgNode) == 16);
-static_assert(sizeof(gpu::TileParams) == 64 && offsetof(gpu::TileParams, guideRect) == 48);
-static_assert(sizeof(gpu::RayCounters) == 16);
+// The GLSL side reads these with std430 (storage, push constants) and
+// std140 (uniform) rules; every size and offset below is the one those
+// rules give the GLSL declaration (shaders/device_types.h).
+static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, a) == 0 &&
+              offsetof(gpu::Primitive, b) == 16 && offsetof(gpu::Primitive, c) == 32 &&
+              offsetof(gpu::Primitive, shape) == 48 && offsetof(gpu::Primitive, material) == 52 &&
+              offsetof(gpu::Primitive, extra0) == 56 && offsetof(gpu::Primitive, extra1) == 60);
+static_assert(sizeof(gpu::Material) == 144 && offsetof(gpu::Material, diffuse) == 0 &&
+              offsetof(gpu::Material, specular) == 16 && offsetof(gpu::Material, ka) == 32 &&
+              offsetof(gpu::Material, kd) == 36 && offsetof(gpu::Material, ks) == 40 &&
+              offsetof(gpu::Material, shininess) == 44 && offsetof(gpu::Material, kr) == 48 &&
+              offsetof(gpu::Material, kt) == 52 && offsetof(gpu::Material, ior) == 56 &&
+              offsetof(gpu::Material, checkerColor) == 64 && offsetof(gpu::Material, checkerSize) == 76 &&
+              offsetof(gpu::Material, checkerOrigin) == 80 && offsetof(gpu::Material, absorption) == 96 &&
+              offsetof(gpu::Material, diffuseTexture) == 112 && offsetof(gpu::Material, normalMap) == 116 &&
+              offsetof(gpu::Material, textureScale) == 128 && offsetof(gpu::Material, normalStrength) == 132);
+static_assert(sizeof(gpu::SurfaceAttributes) == 48 && offsetof(gpu::SurfaceAttributes, uv0) == 0 &&
+              offsetof(gpu::SurfaceAttributes, uv1) == 8 && offsetof(gpu::SurfaceAttributes, uv2) == 16 &&
+              offsetof(gpu::SurfaceAttributes, tangents) == 32 &&
+              offsetof(gpu::SurfaceAttributes, hasTangents) == 44);
+static_assert(sizeof(gpu::Light) == 32 && offsetof(gpu::Light, position) == 0 &&
+              offsetof(gpu::Light, color) == 16);
+static_assert(sizeof(gpu::BvhNode) == 32 && offsetof(gpu::BvhNode, lo) == 0 &&
+              offsetof(gpu::BvhNode, first) == 12 && offsetof(gpu::BvhNode, hi) == 16 &&
+              offsetof(gpu::BvhNode, primitiveCount) == 28);
+static_assert(sizeof(gpu::CsgNode) == 16 && offsetof(gpu::CsgNode, op) == 0 &&
+              offsetof(gpu::CsgNode, leaf) == 4);
+static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, eye) == 0 &&
+              offsetof(gpu::FrameParams, forward) == 16 && offsetof(gpu::FrameParams, right) == 32 &&
+              offsetof(gpu::FrameParams, up) == 48 && offsetof(gpu::FrameParams, ambientLight) == 64 &&
+              offsetof(gpu::FrameParams, width) == 80 && offsetof(gpu::FrameParams, height) == 84 &&
+              offsetof(gpu::FrameParams, primitiveCount) == 88 &&
+              offsetof(gpu::FrameParams, lightCount) == 92 &&
+              offsetof(gpu::FrameParams, samplesPerPixel) == 96 &&
+              offsetof(gpu::FrameParams, maxDepth) == 100 && offsetof(gpu::FrameParams, options) == 104 &&
+              offsetof(gpu::FrameParams, seed) == 108 && offsetof(gpu::FrameParams, bvhNodeCount) == 112 &&
+              offsetof(gpu::FrameParams, firstListPrimitive) == 116 &&
+              offsetof(gpu::FrameParams, listPrimitiveCount) == 120 &&
+              offsetof(gpu::FrameParams, primitiveAddress) == 128 &&
+              offsetof(gpu::FrameParams, bvhNodeAddress) == 136 &&
+              offsetof(gpu::FrameParams, materialAddress) == 144 &&
+              offsetof(gpu::FrameParams, lightAddress) == 152 &&
+              offsetof(gpu::FrameParams, csgNodeAddress) == 160 &&
+              offsetof(gpu::FrameParams, attributeAddress) == 168);
+static_assert(sizeof(gpu::TileParams) == 80 && offsetof(gpu::TileParams, tileOrigin) == 0 &&
+              offsetof(gpu::TileParams, tileSize) == 8 && offsetof(gpu::TileParams, firstSample) == 16 &&
+              offsetof(gpu::TileParams, sampleCount) == 20 && offsetof(gpu::TileParams, patternSize) == 24 &&
+              offsetof(gpu::TileParams, flags) == 28 && offsetof(gpu::TileParams, outputOrigin) == 32 &&
+              offsetof(gpu::TileParams, outputSize) == 40 && offsetof(gpu::TileParams, guideOrigin) == 48 &&
+              offsetof(gpu::TileParams, guideSize) == 56 && offsetof(gpu::TileParams, listFirst) == 64 &&
+              offsetof(gpu::TileParams, listCount) == 68);
+static_assert(sizeof(gpu::RayCounters) == 16 && offsetof(gpu::RayCounters, primary) == 0 &&
+              offsetof(gpu::RayCounters, shadow) == 4 && offsetof(gpu::RayCounters, secondary) == 8);
+static_assert(sizeof(gpu::DisplayParams) == 48 && offsetof(gpu::DisplayParams, kind) == 0 &&
+              offsetof(gpu::DisplayParams, layer) == 4 && offsetof(gpu::DisplayParams, channel) == 8 &&
+              offsetof(gpu::DisplayParams, width) == 16 && offsetof(gpu::DisplayParams, height) == 20 &&
+              offsetof(gpu::DisplayParams, scalarScale) == 32 &&
+              offsetof(gpu::DisplayParams, depthMedian) == 36);
 
 namespace {
 
@@ -41,16 +83,23 @@ uint32_t textureSlot(const TextureRef& texture, std::vector<std::shared_ptr<cons
 }
 
 gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const TextureData>>& textures) {
-    return {.diffuse = glm::vec4(glm::vec3(m.diffuseColor), 1.0f),
-            .specular = glm::vec4(glm::vec3(m.specularColor), 1.0f),
-            .coefs0 = glm::vec4(float(m.ambient), float(m.diffuse), float(m.specular), float(m.shininess)),
-            .coefs1 = glm::vec4(float(m.reflection), float(m.transmission), float(m.ior), 0.0f),
-            .checker = glm::vec4(glm::vec3(m.checkerColor), float(m.checkerSize)),
-            .checkerOrigin = glm::vec4(glm::vec3(m.checkerOrigin), 0.0f),
-            .absorption = glm::vec4(glm::vec3(m.absorption), 0.0f),
-            .textureSlots =
-                glm::uvec4(textureSlot(m.diffuseTexture, textures), textureSlot(m.normalMap, textures), 0, 0),
-            .textureParams = glm::vec4(float(m.textureScale), float(m.normalStrength), 0.0f, 0.0f)};
+    return {.diffuse = glm::vec3(m.diffuseColor),
+            .specular = glm::vec3(m.specularColor),
+            .ka = float(m.ambient),
+            .kd = float(m.diffuse),
+            .ks = float(m.specular),
+            .shininess = float(m.shininess),
+            .kr = float(m.reflection),
+            .kt = float(m.transmission),
+            .ior = float(m.ior),
+            .checkerColor = glm::vec3(m.checkerColor),
+            .checkerSize = float(m.checkerSize),
+            .checkerOrigin = glm::vec3(m.checkerOrigin),
+            .absorption = glm::vec3(m.absorption),
+            .diffuseTexture = textureSlot(m.diffuseTexture, textures),
+            .normalMap = textureSlot(m.normalMap, textures),
+            .textureScale = float(m.textureScale),
+            .normalStrength = float(m.normalStrength)};
 }
 
 // Whether a mesh object needs per-triangle surface attributes.
@@ -67,10 +116,10 @@ void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p
     glm::dvec3 up = glm::cross(right, forward);
     double tanHalf = std::tan(glm::radians(camera.verticalFovDegrees) / 2.0);
     double aspect = double(width) / double(height);
-    p.eye = glm::vec4(glm::vec3(camera.eye), 1.0f);
-    p.forward = glm::vec4(glm::vec3(forward), 0.0f);
-    p.right = glm::vec4(glm::vec3(right * tanHalf * aspect), 0.0f);
-    p.up = glm::vec4(glm::vec3(up * tanHalf), 0.0f);
+    p.eye = glm::vec3(camera.eye);
+    p.forward = glm::vec3(forward);
+    p.right = glm::vec3(right * tanHalf * aspect);
+    p.up = glm::vec3(up * tanHalf);
 }
 
 // items[k] = old items[source[k]] for every k, following the permutation's
@@ -129,14 +178,15 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
             const Mesh& mesh = std::get<Mesh>(object.shape);
             for (size_t i = 0; i < mesh.uvs.size(); ++i) {
                 const auto& uv = mesh.uvs[i];
-                glm::uvec4 tangents(0);
+                gpu::SurfaceAttributes at{.uv0 = glm::vec2(uv[0]), .uv1 = glm::vec2(uv[1]), .uv2 = glm::vec2(uv[2])};
                 if (!mesh.tangents.empty() && glm::length(mesh.tangents[i][0]) > 0.5 &&
-                    glm::length(mesh.tangents[i][1]) > 0.5 && glm::length(mesh.tangents[i][2]) > 0.5)
-                    tangents = glm::uvec4(encodeOctahedral(mesh.tangents[i][0]), encodeOctahedral(mesh.tangents[i][1]),
-                                          encodeOctahedral(mesh.tangents[i][2]), 1u);
-                g.attributes.push_back({.uv01 = glm::vec4(uv[0].x, uv[0].y, uv[1].x, uv[1].y),
-                                        .uv2 = glm::vec4(uv[2].x, uv[2].y, 0.0f, 0.0f),
-                                        .tangents = tangents});
+                    glm::length(mesh.tangents[i][1]) > 0.5 && glm::length(mesh.tangents[i][2]) > 0.5) {
+                    at.tangents = glm::uvec3(encodeOctahedral(mesh.tangents[i][0]),
+                                             encodeOctahedral(mesh.tangents[i][1]),
+                                             encodeOctahedral(mesh.tangents[i][2]));
+                    at.hasTangents = 1u;
+                }
+                g.attributes.push_back(at);
             }
         } else {
             g.attributes.resize(g.attributes.size() + (primitives.size() - first), gpu::SurfaceAttributes{});
@@ -181,22 +231,27 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     // becomes the index of its first leaf there.
     uint32_t leafBase = uint32_t(g.primitives.size());
     for (gpu::Primitive& p : g.primitives)
-        if (p.info.x == gpu::kShapeCsg) p.a.w = glm::uintBitsToFloat(leafBase + glm::floatBitsToUint(p.a.w));
+        if (p.shape == gpu::kShapeCsg) p.a.w = glm::uintBitsToFloat(leafBase + glm::floatBitsToUint(p.a.w));
     g.primitives.insert(g.primitives.end(), csg.leaves.begin(), csg.leaves.end());
     g.csgNodes = std::move(csg.nodes);
     for (const PointLight& light : scene.lights)
-        g.lights.push_back({.position = glm::vec4(glm::vec3(light.position), 1.0f),
-                            .color = glm::vec4(glm::vec3(light.color), 1.0f)});
+        g.lights.push_back({.position = glm::vec3(light.position), .color = glm::vec3(light.color)});
 
     packCamera(scene.camera, g.width, g.height, g.params);
-    g.params.ambientLight = glm::vec4(glm::vec3(scene.ambientLight), 0.0f);
-    g.params.sizes = glm::uvec4(g.width, g.height, g.primitives.size(), g.lights.size());
-    g.params.options = glm::uvec4(settings.samplesPerPixel, settings.maxDepth,
-                                  (settings.auxiliary ? gpu::kOptionWriteAovs : 0u) |
-                                      (settings.textureLodZero ? gpu::kOptionTextureLodZero : 0u),
-                                  settings.seed);
-    if (settings.auxiliary) g.params.options.z |= uint32_t(settings.aovBounces) << gpu::kOptionAovBouncesShift;
-    g.params.accel = glm::uvec4(g.bvhNodes.size(), bounded.size(), unbounded.size(), 0);
+    g.params.ambientLight = glm::vec3(scene.ambientLight);
+    g.params.width = uint32_t(g.width);
+    g.params.height = uint32_t(g.height);
+    g.params.primitiveCount = uint32_t(g.primitives.size());
+    g.params.lightCount = uint32_t(g.lights.size());
+    g.params.samplesPerPixel = uint32_t(settings.samplesPerPixel);
+    g.params.maxDepth = uint32_t(settings.maxDepth);
+    g.params.options = (settings.auxiliary ? gpu::kOptionWriteAovs : 0u) |
+                       (settings.textureLodZero ? gpu::kOptionTextureLodZero : 0u);
+    if (settings.auxiliary) g.params.options |= uint32_t(settings.aovBounces) << gpu::kOptionAovBouncesShift;
+    g.params.seed = uint32_t(settings.seed);
+    g.params.bvhNodeCount = uint32_t(g.bvhNodes.size());
+    g.params.firstListPrimitive = uint32_t(bounded.size());
+    g.params.listPrimitiveCount = uint32_t(unbounded.size());
     return g;
 }
 

@@ -23,7 +23,7 @@ struct GpuScene {
     std::vector<gpu::CsgNode> csgNodes;  // the csg objects' programs (empty: no csg)
     // One entry per primitive (same order) when a textured mesh needs them, else empty.
     std::vector<gpu::SurfaceAttributes> attributes;
-    // The images of the kBindingTextures array, by slot (Material.textureSlots).
+    // The images of the kBindingTextures array, by slot (Material.diffuseTexture, normalMap).
     std::vector<std::shared_ptr<const TextureData>> textures;
     BvhStats bvhStats;
     gpu::FrameParams params{};

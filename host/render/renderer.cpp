@@ -109,10 +109,10 @@ std::array<uint32_t, 4> specializationFor(const VulkanContext& ctx, const GpuSce
     std::array<uint32_t, 4> constants = {0u, 0u, 0u, 0u};
     // The csg leaves after the listed primitives are intersected by
     // intersectCsg only.
-    size_t listEnd = scene.params.accel.y + scene.params.accel.z;
+    size_t listEnd = scene.params.firstListPrimitive + scene.params.listPrimitiveCount;
     for (size_t i = 0; i < listEnd; ++i)
-        constants[i < scene.params.accel.y ? 0 : 2] |= 1u << scene.primitives[i].info.x;
-    for (const gpu::Material& m : scene.materials) constants[1] |= m.coefs1.y > 0.0f ? 1u : 0u;
+        constants[i < scene.params.firstListPrimitive ? 0 : 2] |= 1u << scene.primitives[i].shape;
+    for (const gpu::Material& m : scene.materials) constants[1] |= m.kt > 0.0f ? 1u : 0u;
     constants[3] = sceneFromStorageBuffers(ctx, scene) ? 1u : 0u;  // not a constant: the shader variant
     return constants;
 }
@@ -333,7 +333,7 @@ void Renderer::uploadScene() {
         // The device's structures over the bounded primitives replace the
         // BVH, whose nodes the shader variant never reads.
         accelerationStructures_ = buildAccelerationStructures(
-            ctx_, std::span(scene_.primitives).first(scene_.params.accel.y));
+            ctx_, std::span(scene_.primitives).first(scene_.params.firstListPrimitive));
         deviceBytes_ += accelerationStructures_.bytes();
         std::vector<gpu::BvhNode>().swap(scene_.bvhNodes);
     }
@@ -353,11 +353,11 @@ void Renderer::uploadScene() {
     deviceBytes_ += csgNodes_.size;
     glm::uvec2 p = addressWords(primitives_), n = addressWords(bvhNodes_);
     glm::uvec2 m = addressWords(materials_), l = addressWords(lights_);
-    scene_.params.addresses0 = glm::uvec4(p, n);
-    scene_.params.addresses1 = glm::uvec4(m, l);
-    glm::uvec2 c = addressWords(csgNodes_);
-    scene_.params.addresses2.x = c.x;
-    scene_.params.addresses2.y = c.y;
+    scene_.params.primitiveAddress = p;
+    scene_.params.bvhNodeAddress = n;
+    scene_.params.materialAddress = m;
+    scene_.params.lightAddress = l;
+    scene_.params.csgNodeAddress = addressWords(csgNodes_);
     // Textures and the per-primitive surface attributes (UVs of textured
     // meshes; address 0 when no mesh needs them).
     attributes_ = {};
@@ -369,9 +369,7 @@ void Renderer::uploadScene() {
         deviceBytes_ += attributes_.size;
         std::vector<gpu::SurfaceAttributes>().swap(scene_.attributes);
     }
-    glm::uvec2 a = addressWords(attributes_);  // 0 when not made
-    scene_.params.addresses2.z = a.x;
-    scene_.params.addresses2.w = a.y;
+    scene_.params.attributeAddress = addressWords(attributes_);  // 0 when not made
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
 
     // In the order of kBindings.
@@ -452,13 +450,16 @@ void Renderer::recordTile(const vk::raii::CommandBuffer& cmd, const gpu::TilePar
     if (settings_.bandBytes != 0) throw std::logic_error("Renderer::recordTile needs the whole image resident");
     cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_.pipeline);
     cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipeline_.layout, 0, *descriptorSet_, nullptr);
-    for (uint32_t done = 0; done < tile.samples.y; done += kMaxSamplesPerInvocation) {
+    for (uint32_t done = 0; done < tile.sampleCount; done += kMaxSamplesPerInvocation) {
         gpu::TileParams part = tile;
-        part.samples = glm::uvec4(tile.samples.x + done, std::min(kMaxSamplesPerInvocation, tile.samples.y - done),
-                                  uint32_t(settings_.samplesPerPixel), 0u);
-        part.outputRect = glm::uvec4(0, 0, scene_.width, scene_.height);
-        recordDispatch(cmd, part, (tile.tile.z + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
-                       (tile.tile.w + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize);
+        part.firstSample = tile.firstSample + done;
+        part.sampleCount = std::min(kMaxSamplesPerInvocation, tile.sampleCount - done);
+        part.patternSize = uint32_t(settings_.samplesPerPixel);
+        part.flags = 0u;
+        part.outputOrigin = glm::uvec2(0, 0);
+        part.outputSize = glm::uvec2(scene_.width, scene_.height);
+        recordDispatch(cmd, part, (tile.tileSize.x + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize,
+                       (tile.tileSize.y + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize);
     }
 }
 
@@ -574,7 +575,8 @@ void forEachTile(const PixelRect& rect, F&& f) {
             f(PixelRect{rect.x0 + x, rect.y0 + y, std::min(kTileSize, rect.width - x), std::min(kTileSize, rect.height - y)});
 }
 
-glm::uvec4 asUvec4(const PixelRect& r) { return {r.x0, r.y0, r.width, r.height}; }
+glm::uvec2 originOf(const PixelRect& r) { return {r.x0, r.y0}; }
+glm::uvec2 sizeOf(const PixelRect& r) { return {r.width, r.height}; }
 
 uint32_t groupsFor(uint32_t n) { return (n + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize; }
 
@@ -593,10 +595,14 @@ void Renderer::renderBandUniform(Batch& batch, const PixelRect& band) {
         chunk = std::min(chunk, kMaxSamplesPerInvocation);
         for (uint32_t s = 0; s < spp; s += chunk) {
             uint32_t n = std::min(chunk, spp - s);
-            gpu::TileParams params{.tile = asUvec4(tile),
-                                   .samples = glm::uvec4(s, n, spp, s == 0 ? gpu::kTileOverwrite : 0u),
-                                   .outputRect = asUvec4(band),
-                                   .guideRect = {}};
+            gpu::TileParams params{.tileOrigin = originOf(tile),
+                                   .tileSize = sizeOf(tile),
+                                   .firstSample = s,
+                                   .sampleCount = n,
+                                   .patternSize = spp,
+                                   .flags = s == 0 ? gpu::kTileOverwrite : 0u,
+                                   .outputOrigin = originOf(band),
+                                   .outputSize = sizeOf(band)};
             batch.add(params, groupsFor(tile.width), groupsFor(tile.height), pixels * n);
         }
     });
@@ -614,10 +620,16 @@ void Renderer::renderBandAdaptive(Batch& batch, const PixelRect& band) {
     uint32_t width = uint32_t(scene_.width), height = uint32_t(scene_.height);
     PixelRect guideRect = grow(band, border, width, height);
     forEachTile(guideRect, [&](const PixelRect& tile) {
-        gpu::TileParams params{.tile = asUvec4(tile),
-                               .samples = glm::uvec4(0, 1, 1, gpu::kTileOverwrite | gpu::kTileGuide),
-                               .outputRect = asUvec4(band),
-                               .guideRect = asUvec4(guideRect)};
+        gpu::TileParams params{.tileOrigin = originOf(tile),
+                               .tileSize = sizeOf(tile),
+                               .firstSample = 0,
+                               .sampleCount = 1,
+                               .patternSize = 1,
+                               .flags = gpu::kTileOverwrite | gpu::kTileGuide,
+                               .outputOrigin = originOf(band),
+                               .outputSize = sizeOf(band),
+                               .guideOrigin = originOf(guideRect),
+                               .guideSize = sizeOf(guideRect)};
         batch.add(params, groupsFor(tile.width), groupsFor(tile.height), uint64_t(tile.width) * tile.height);
     });
     batch.flush();
@@ -637,10 +649,14 @@ void Renderer::renderBandAdaptive(Batch& batch, const PixelRect& band) {
             for (uint32_t s = 0; s < n; s += chunk) {
                 uint32_t k = std::min(chunk, n - s);
                 uint32_t flags = gpu::kTileList | gpu::kTileStats | (s == 0 ? gpu::kTileOverwrite : 0u);
-                gpu::TileParams params{.tile = glm::uvec4(first, count, 0, 0),
-                                       .samples = glm::uvec4(s, k, n, flags),
-                                       .outputRect = asUvec4(band),
-                                   .guideRect = {}};
+                gpu::TileParams params{.firstSample = s,
+                                       .sampleCount = k,
+                                       .patternSize = n,
+                                       .flags = flags,
+                                       .outputOrigin = originOf(band),
+                                       .outputSize = sizeOf(band),
+                                       .listFirst = first,
+                                       .listCount = count};
                 batch.add(params, (count + gpu::kListGroupSize - 1) / gpu::kListGroupSize, 1, uint64_t(count) * k);
             }
         }

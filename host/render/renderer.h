@@ -98,7 +98,7 @@ private:
     ImageLayout layout_;
     uint32_t bandRows_ = 0;  // rows of the region per band
     Buffer params_, primitives_, materials_, lights_, output_, counters_, bvhNodes_;
-    Buffer csgNodes_;  // the csg objects' programs (FrameParams.addresses2.xy)
+    Buffer csgNodes_;  // the csg objects' programs (FrameParams.csgNodeAddress)
     Buffer attributes_;     // gpu::SurfaceAttributes per primitive, when a textured mesh needs them
     TextureSet textures_;   // the kBindingTextures array
     // Adaptive anti-aliasing: pixel list, first-pass guide, sample

@@ -54,9 +54,9 @@ void emitCsg(const Csg& csg, uint32_t material, uint32_t leafBase, CsgArrays& ar
             uint32_t slot = uint32_t(arrays.leaves.size()) - leafBase;
             std::vector<Aabb> unused;
             appendPrimitives(child.shape, childMaterial, arrays.leaves, unused);
-            arrays.nodes.push_back({glm::uvec4(gpu::kCsgLeaf, slot, 0, 0)});
+            arrays.nodes.push_back({.op = gpu::kCsgLeaf, .leaf = slot});
         }
-        if (k > 0) arrays.nodes.push_back({glm::uvec4(operationCode(csg.operation), 0, 0, 0)});
+        if (k > 0) arrays.nodes.push_back({.op = operationCode(csg.operation), .leaf = 0});
     }
 }
 
@@ -114,7 +114,10 @@ gpu::Primitive packCsg(const Csg& csg, uint32_t material, CsgArrays& arrays) {
     return {.a = glm::vec4(b.min, glm::uintBitsToFloat(firstLeaf)),
             .b = glm::vec4(b.max, glm::uintBitsToFloat(leafCount)),
             .c = glm::vec4(0),
-            .info = glm::uvec4(gpu::kShapeCsg, material, firstNode, uint32_t(arrays.nodes.size()) - firstNode)};
+            .shape = gpu::kShapeCsg,
+            .material = material,
+            .extra0 = firstNode,
+            .extra1 = uint32_t(arrays.nodes.size()) - firstNode};
 }
 
 }  // namespace whitted

@@ -8,7 +8,10 @@ gpu::Primitive packCylinder(const Cylinder& c, uint32_t material) {
     return {.a = glm::vec4(glm::vec3(c.base), float(c.radius)),
             .b = glm::vec4(glm::vec3(glm::normalize(c.axis)), float(c.height)),
             .c = glm::vec4(0),
-            .info = glm::uvec4(gpu::kShapeCylinder, material, 0, 0)};
+            .shape = gpu::kShapeCylinder,
+            .material = material,
+            .extra0 = 0,
+            .extra1 = 0};
 }
 
 // The two cap discs bound the cylinder; a disc of radius r perpendicular to

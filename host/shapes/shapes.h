@@ -42,7 +42,7 @@ struct CsgArrays {
 };
 // The csg object's primitive: its bounds, a.w = its first leaf's index in
 // arrays.leaves (the caller adds where the leaves start in the primitive
-// array), b.w its leaf count, info.zw its program's range in arrays.nodes.
+// array), b.w its leaf count, extra0 and extra1 its program's range in arrays.nodes.
 gpu::Primitive packCsg(const Csg& csg, uint32_t material, CsgArrays& arrays);
 Aabb boundsCsg(const Csg& csg);
 size_t csgLeafCount(const Csg& csg);

@@ -7,7 +7,10 @@ gpu::Primitive packSphere(const Sphere& s, uint32_t material) {
     return {.a = glm::vec4(glm::vec3(s.center), float(s.radius)),
             .b = glm::vec4(0),
             .c = glm::vec4(0),
-            .info = glm::uvec4(gpu::kShapeSphere, material, 0, 0)};
+            .shape = gpu::kShapeSphere,
+            .material = material,
+            .extra0 = 0,
+            .extra1 = 0};
 }
 
 Aabb boundsSphere(const Sphere& s) {

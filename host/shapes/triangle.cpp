@@ -12,7 +12,10 @@ gpu::Primitive packTriangle(const Triangle& t, uint32_t material) {
     return {.a = glm::vec4(glm::vec3(t.v0), 0.0f),
             .b = glm::vec4(glm::vec3(t.v1), 0.0f),
             .c = glm::vec4(glm::vec3(t.v2), 0.0f),
-            .info = glm::uvec4(gpu::kShapeTriangle, material, 0, 0)};
+            .shape = gpu::kShapeTriangle,
+            .material = material,
+            .extra0 = 0,
+            .extra1 = 0};
 }
 
 // Octahedral encoding of a unit vector ("A Survey of Efficient
@@ -35,14 +38,14 @@ uint32_t encodeOctahedral(const glm::dvec3& n) {
 }
 
 // The vertex normals ride in the w components of the three vertices and
-// info.z marks the triangle smooth; the primitive stays 64 bytes and the
+// extra0 marks the triangle smooth; the primitive stays 64 bytes and the
 // normals move with it when the BVH reorders primitives.
 gpu::Primitive packSmoothTriangle(const Triangle& t, const std::array<glm::dvec3, 3>& normals, uint32_t material) {
     gpu::Primitive p = packTriangle(t, material);
     p.a.w = std::bit_cast<float>(encodeOctahedral(normals[0]));
     p.b.w = std::bit_cast<float>(encodeOctahedral(normals[1]));
     p.c.w = std::bit_cast<float>(encodeOctahedral(normals[2]));
-    p.info.z = gpu::kTriangleSmooth;
+    p.extra0 = gpu::kTriangleSmooth;
     return p;
 }
 

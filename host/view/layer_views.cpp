@@ -3,10 +3,15 @@
 namespace whitted {
 
 std::vector<LayerView> layerViews(int width, int height, int bounces) {
-    glm::uvec4 size(width, height, 0, 0);
     auto make = [&](const char* name, uint32_t kind, uint32_t layer, uint32_t channel, float scale) {
-        return LayerView{
-            name, {.view = glm::uvec4(kind, layer, channel, 0), .size = size, .scale = glm::vec4(scale, 1, 0, 0)}};
+        return LayerView{name,
+                         {.kind = kind,
+                          .layer = layer,
+                          .channel = channel,
+                          .width = uint32_t(width),
+                          .height = uint32_t(height),
+                          .scalarScale = scale,
+                          .depthMedian = 1}};
     };
     std::vector<LayerView> views = {make("color", gpu::kDisplayColor, gpu::kAovColor, 0, 1),
             make("ambient", gpu::kDisplayColor, gpu::kAovAmbient, 0, 1),

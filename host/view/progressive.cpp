@@ -52,8 +52,10 @@ uint64_t Progressive::record(const Renderer& renderer, const vk::raii::CommandBu
         uint32_t rows = uint32_t(std::max<uint64_t>(rowsPaid / kRowStep * kRowStep, kRowStep));
         rows = std::min(rows, uint32_t(height_) - nextRow_);
         renderer.recordTile(
-            cmd, {.tile = glm::uvec4(0, nextRow_, width_, rows), .samples = glm::uvec4(pass_, samples, 0, 0),
-                  .outputRect = {}, .guideRect = {}});
+            cmd, {.tileOrigin = glm::uvec2(0, nextRow_),
+                  .tileSize = glm::uvec2(width_, rows),
+                  .firstSample = pass_,
+                  .sampleCount = samples});
         recorded += uint64_t(width_) * rows * samples;
         nextRow_ += rows;
         if (nextRow_ == uint32_t(height_)) {

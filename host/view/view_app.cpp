@@ -434,7 +434,7 @@ ViewOutcome ViewApp::run() {
         progressive_.frameDone(traceSeconds, recorded);
 
         gpu::DisplayParams display = layers_[layer_].params;
-        display.scale.y = depthScale_;
+        display.depthMedian = depthScale_;
         presenter_.recordDisplay(display);
         bool captureWindow = std::any_of(pendingShots_.begin(), pendingShots_.end(), [](auto& s) { return s.second; });
         presenter_.recordOverlay(drawData, captureWindow);

@@ -8,7 +8,7 @@
 // Leaf primitive i of a csg object (a sphere, cylinder or box): the first
 // crossing of its surface after tMin, by the shape's own function.
 bool intersectCsgLeaf(uint i, Ray ray, float tMin, inout float tHit, out vec3 normal) {
-    uint tag = primitives[i].info.x;
+    uint tag = primitives[i].shape;
     vec4 a = primitives[i].a, b = primitives[i].b;
     if (tag == kShapeSphere) return intersectSphere(a.xyz, a.w, ray, tMin, tHit, normal);
     if (tag == kShapeCylinder) return intersectCylinder(a.xyz, b.xyz, a.w, b.w, ray, tMin, tHit, normal);
@@ -22,7 +22,7 @@ bool csgContains(uint firstNode, uint nodeCount, uint inside) {
     uint stack = 0u;
     int top = 0;
     for (uint k = 0u; k < nodeCount; ++k) {
-        uvec2 node = csgNodes[firstNode + k].info.xy;
+        uvec2 node = uvec2(csgNodes[firstNode + k].op, csgNodes[firstNode + k].leaf);
         if (node.x == kCsgLeaf) {
             stack = bitfieldInsert(stack, (inside >> node.y) & 1u, top, 1);
             ++top;
@@ -60,7 +60,7 @@ bool intersectCsg(uint i, Ray ray, float tMin, inout float tHit, out vec3 normal
     normal = vec3(0.0);
     leaf = i;
     vec4 a = primitives[i].a, b = primitives[i].b;
-    uvec2 program = primitives[i].info.zw;
+    uvec2 program = uvec2(primitives[i].extra0, primitives[i].extra1);
     // The object's bounds first: most rays that reach here miss it.
     vec3 d = mix(ray.dir, vec3(1e-30), lessThan(abs(ray.dir), vec3(1e-30)));
     vec3 t0 = (a.xyz - ray.origin) / d, t1 = (b.xyz - ray.origin) / d;

@@ -97,4 +97,14 @@ SurfaceUv cylinderUv(vec3 base, vec3 axis, float radius, float height, vec3 n, v
     return s;
 }
 
+// Signed curvature at p where the geometric normal is n: +-1/r on the side,
+// signed as on a sphere (negative where n points towards the axis), 0 on the
+// caps (told apart by n).
+float cylinderCurvature(vec3 base, vec3 axis, float radius, vec3 n, vec3 p) {
+    if (abs(dot(n, axis)) > 0.5) return 0.0;  // a cap
+    vec3 radial = p - base;
+    radial -= dot(radial, axis) * axis;
+    return (dot(n, radial) < 0.0 ? -1.0 : 1.0) / radius;
+}
+
 #endif

@@ -14,7 +14,7 @@
 // the whole struct (tests/shaders/intersect_test.comp). Both call the same
 // shape functions.
 bool intersectPrimitive(Primitive prim, Ray ray, float tMin, inout float tHit, out vec3 normal) {
-    switch (prim.info.x) {
+    switch (prim.shape) {
         case kShapeSphere: return intersectSphere(prim.a.xyz, prim.a.w, ray, tMin, tHit, normal);
         case kShapeCylinder: return intersectCylinder(prim.a.xyz, prim.b.xyz, prim.a.w, prim.b.w, ray, tMin, tHit, normal);
         case kShapePlane: return intersectPlane(prim.a.xyz, prim.b.xyz, ray, tMin, tHit, normal);
@@ -33,7 +33,7 @@ bool intersectPrimitive(Primitive prim, Ray ray, float tMin, inout float tHit, o
 // coarse mesh), bent towards viewDir until their cosine is kMinCosine, so
 // shading never looks at a surface from behind.
 vec3 shadingNormal(Primitive prim, vec3 p, vec3 n, vec3 viewDir) {
-    if (prim.info.x != kShapeTriangle || prim.info.z != kTriangleSmooth) return n;
+    if (prim.shape != kShapeTriangle || prim.extra0 != kTriangleSmooth) return n;
     const float kMinCosine = 1e-3;
     uvec3 packedNormals = uvec3(floatBitsToUint(prim.a.w), floatBitsToUint(prim.b.w), floatBitsToUint(prim.c.w));
     vec3 s = shadingNormalTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, packedNormals, p);

@@ -42,4 +42,11 @@ SurfaceUv sphereUv(vec3 center, float radius, vec3 p) {
     return s;
 }
 
+// Signed curvature at p where the geometric normal is n: 1/r where n points
+// away from the centre (convex towards n), -1/r where it points towards it
+// (a sphere subtracted by CSG, whose surface faces into the removed volume).
+float sphereCurvature(vec3 center, float radius, vec3 n, vec3 p) {
+    return (dot(n, p - center) < 0.0 ? -1.0 : 1.0) / radius;
+}
+
 #endif

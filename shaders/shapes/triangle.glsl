@@ -106,4 +106,25 @@ SurfaceUv triangleUv(vec3 v0, vec3 v1, vec3 v2, vec2 uv0, vec2 uv1, vec2 uv2, ve
     return s;
 }
 
+// Signed curvature of a smooth triangle (packed vertex normals) where its
+// geometric normal is n: the mean over the edges of
+// (n_j - n_i) . (p_j - p_i) / |p_j - p_i|^2 with the vertex normals turned
+// to the winding's side (1/r exactly on a sphere's tessellation), positive
+// where the surface is convex towards n.
+float triangleCurvature(vec3 v0, vec3 v1, vec3 v2, uvec3 packedNormals, vec3 n) {
+    vec3 p[3] = vec3[3](v0, v1, v2);
+    vec3 v[3] = vec3[3](decodeOctahedral(packedNormals.x), decodeOctahedral(packedNormals.y),
+                        decodeOctahedral(packedNormals.z));
+    vec3 ng = cross(p[1] - p[0], p[2] - p[0]);
+    float k = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        int j = i == 2 ? 0 : i + 1;
+        vec3 ni = dot(v[i], ng) < 0.0 ? -v[i] : v[i];
+        vec3 nj = dot(v[j], ng) < 0.0 ? -v[j] : v[j];
+        vec3 e = p[j] - p[i];
+        k += dot(nj - ni, e) / dot(e, e);
+    }
+    return (dot(n, ng) < 0.0 ? -k : k) / 3.0;
+}
+
 #endif
