@@ -303,13 +303,6 @@ private:
     }
 
 
-    static size_t leafCount(const Csg& csg) {
-        size_t count = 0;
-        for (const CsgChild& child : csg.children)
-            count += std::holds_alternative<Csg>(child.shape) ? leafCount(std::get<Csg>(child.shape)) : 1;
-        return count;
-    }
-
     // A csg object (README "CSG"): <operation> in <properties>, its children
     // in <objects>, placed relative to its <position> (the parent's origin
     // without one). The leaves of a top-level csg object are limited by the
@@ -343,8 +336,8 @@ private:
             Object o = std::move(readObject(child, &parent).front());  // one: no mesh children
             csg.children.push_back({std::move(o.shape), o.material, hasMaterial(child), o.sourceLine});
         }
-        if (depth == 1 && leafCount(csg) > kCsgMaxLeaves)
-            diag_.fail(e, "csg object has " + std::to_string(leafCount(csg)) +
+        if (depth == 1 && csgLeafCount(csg) > kCsgMaxLeaves)
+            diag_.fail(e, "csg object has " + std::to_string(csgLeafCount(csg)) +
                               " leaf shapes (spheres, cylinders, boxes) in all; at most " +
                               std::to_string(kCsgMaxLeaves) + " (the shader's span arrays)");
         return csg;
