@@ -1,6 +1,7 @@
 #include "io/texture_file.h"
 
 #include "io/image_library.h"
+#include "io/srgb.h"
 
 #include <algorithm>
 #include <cctype>
@@ -14,10 +15,6 @@ namespace {
 
 // The largest texture side accepted (as the image size, README "Scene files").
 constexpr int kMaxTextureSize = 16384;
-
-float srgbToLinear(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 bool isLinearColourSpace(const std::string& name) {
     std::string lower = name;
