@@ -4,6 +4,8 @@
 #include "scene/mesh_objects.h"
 #include "scene/xml_reader.h"
 
+#include "device_types.h"
+
 #include <tinyxml2.h>
 
 #include <algorithm>
@@ -25,8 +27,7 @@ namespace {
 using namespace xml;
 
 // The format's limits (README "Scene files") are the XML reader's
-// (scene/xml_reader.h) and these.
-constexpr int kMaxImageSize = 16384;
+// (scene/xml_reader.h), the image side gpu::kMaxImageSide and these.
 // |cross(a, b)| of unit vectors below this counts as parallel.
 constexpr double kParallelTolerance = 1e-6;
 
@@ -155,9 +156,9 @@ private:
                                              kFovRange.describe());
         }
 
-        if (const XMLElement* width = c.optional("width")) camera.width = integer(diag_, width, 1, kMaxImageSize);
-        if (const XMLElement* height = c.optional("height"))
-            camera.height = integer(diag_, height, 1, kMaxImageSize);
+        constexpr int maxSide = int(gpu::kMaxImageSide);
+        if (const XMLElement* width = c.optional("width")) camera.width = integer(diag_, width, 1, maxSide);
+        if (const XMLElement* height = c.optional("height")) camera.height = integer(diag_, height, 1, maxSide);
         return camera;
     }
 
