@@ -1,5 +1,6 @@
 #include "io/mesh_file.h"
 
+#include "io/srgb.h"
 #include "io/texture_file.h"
 
 #include <assimp/material.h>
@@ -60,8 +61,7 @@ std::shared_ptr<const TextureData> materialTexture(const aiScene& scene, const a
             std::vector<float> rgba(count * 4);
             auto decode = [&](unsigned char c) {
                 float v = float(c) / 255.0f;
-                if (encoding == TextureEncoding::Data) return v;
-                return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+                return encoding == TextureEncoding::Data ? v : srgbToLinear(v);
             };
             for (size_t i = 0; i < count; ++i) {
                 const aiTexel& t = embedded->pcData[i];

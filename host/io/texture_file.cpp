@@ -1,6 +1,9 @@
 #include "io/texture_file.h"
 
 #include "io/image_library.h"
+#include "io/srgb.h"
+
+#include "device_types.h"
 
 #include <algorithm>
 #include <cctype>
@@ -11,13 +14,6 @@
 
 namespace whitted {
 namespace {
-
-// The largest texture side accepted (as the image size, README "Scene files").
-constexpr int kMaxTextureSize = 16384;
-
-float srgbToLinear(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
 
 bool isLinearColourSpace(const std::string& name) {
     std::string lower = name;
@@ -56,9 +52,11 @@ std::vector<TextureLevel> buildLevels(int width, int height, std::vector<float> 
 
 // A texture from a decoded file, or TextureFileError.
 TextureData fromDecoded(const DecodedImage& image, TextureEncoding encoding, const std::string& name) {
-    if (image.width < 1 || image.height < 1 || image.width > kMaxTextureSize || image.height > kMaxTextureSize)
+    // The largest side accepted is the image's (README "Scene files").
+    constexpr int maxSide = int(gpu::kMaxImageSide);
+    if (image.width < 1 || image.height < 1 || image.width > maxSide || image.height > maxSide)
         throw TextureFileError("is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
-                               "; a texture must be 1 to 16384 texels on each side");
+                               "; a texture must be 1 to " + std::to_string(maxSide) + " texels on each side");
     if (image.channels < 1 || image.pixels.empty()) throw TextureFileError("has no channels");
     int channels = image.channels;
     const std::vector<float>& stored = image.pixels;
@@ -98,7 +96,7 @@ TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding e
     if (std::filesystem::is_directory(path, ec)) throw TextureFileError("is a directory, expected an image file");
     DecodedImage image;
     std::string reason;
-    if (!imageLibrary().read(path.string(), kMaxTextureSize, image, reason))
+    if (!imageLibrary().read(path.string(), int(gpu::kMaxImageSide), image, reason))
         throw TextureFileError("could not be read: " + reason);
     return fromDecoded(image, encoding, path.string());
 }
@@ -112,7 +110,7 @@ TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::s
     if (format.empty()) throw TextureFileError("is in a format that was not recognised (expected PNG or JPEG)");
     DecodedImage image;
     std::string reason;
-    if (!imageLibrary().readMemory(bytes, format, kMaxTextureSize, image, reason))
+    if (!imageLibrary().readMemory(bytes, format, int(gpu::kMaxImageSide), image, reason))
         throw TextureFileError("could not be read: " + reason);
     return fromDecoded(image, encoding, name);
 }

@@ -163,6 +163,10 @@ struct CsgChild {
     int sourceLine = 0;
 };
 
+// The leaf shapes (spheres, cylinders, boxes) under a csg object, those of
+// nested csg objects included: what kCsgMaxLeaves limits.
+size_t csgLeafCount(const Csg& csg);
+
 struct Object {
     Shape shape;
     Material material;

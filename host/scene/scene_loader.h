@@ -5,29 +5,12 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "scene/scene_error.h"
 
 #include <filesystem>
-#include <stdexcept>
-#include <string>
 #include <string_view>
 
 namespace whitted {
-
-// Any refused input. what() is "FILE:LINE: message"; when no line applies
-// (line 0: the file cannot be read, or an XML error without a position) it
-// is "FILE: message".
-class SceneError : public std::runtime_error {
-public:
-    SceneError(std::string file, int line, std::string message);
-    const std::string& file() const { return file_; }
-    int line() const { return line_; }
-    const std::string& message() const { return message_; }
-
-private:
-    std::string file_;
-    int line_;
-    std::string message_;
-};
 
 // Reads and loads the file at `path`; a file that cannot be read gives
 // SceneError(path, 0, "cannot read file: <reason>").

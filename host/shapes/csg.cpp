@@ -62,15 +62,6 @@ void emitCsg(const Csg& csg, uint32_t material, uint32_t leafBase, CsgArrays& ar
 
 }  // namespace
 
-size_t csgLeafCount(const Csg& csg) {
-    size_t count = 0;
-    for (const CsgChild& child : csg.children) {
-        const Csg* nested = std::get_if<Csg>(&child.shape);
-        count += nested ? csgLeafCount(*nested) : 1;
-    }
-    return count;
-}
-
 size_t csgOwnMaterialCount(const Csg& csg) {
     size_t count = 0;
     for (const CsgChild& child : csg.children) {

@@ -45,11 +45,10 @@ struct CsgArrays {
 // array), b.w its leaf count, extra0 and extra1 its program's range in arrays.nodes.
 gpu::Primitive packCsg(const Csg& csg, uint32_t material, CsgArrays& arrays);
 Aabb boundsCsg(const Csg& csg);
-size_t csgLeafCount(const Csg& csg);
 size_t csgOwnMaterialCount(const Csg& csg);  // children with a material of their own
 
 // How many primitives a shape becomes (a csg object: one in the BVH; its
-// leaves are counted by csgLeafCount).
+// leaves are counted by csgLeafCount, scene/scene.h).
 size_t primitiveCount(const Shape& shape);
 
 // Appends the primitives of any shape but csg (a mesh becomes one triangle

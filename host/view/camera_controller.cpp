@@ -95,45 +95,25 @@ std::string cameraXml(const Camera& camera, int indent) {
 }
 
 double sceneRadius(const Scene& scene) {
-    glm::dvec3 lo(1e300), hi(-1e300);
-    auto add = [&](const glm::dvec3& p) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    };
-    for (const PointLight& l : scene.lights) add(l.position);
+    // The shapes' own bounds (host/shapes/); a plane, unbounded, by its point.
+    Aabb box;
+    for (const PointLight& l : scene.lights) box.extend(glm::vec3(l.position));
     for (const Object& o : scene.objects)
         std::visit(
             [&](const auto& s) {
                 using T = std::decay_t<decltype(s)>;
-                if constexpr (std::is_same_v<T, Sphere>) {
-                    add(s.center - s.radius);
-                    add(s.center + s.radius);
-                } else if constexpr (std::is_same_v<T, Cylinder>) {
-                    add(s.base);
-                    add(s.base + s.axis * s.height);
-                } else if constexpr (std::is_same_v<T, Plane>)
-                    add(s.point);
-                else if constexpr (std::is_same_v<T, Triangle>) {
-                    add(s.v0);
-                    add(s.v1);
-                    add(s.v2);
-                } else if constexpr (std::is_same_v<T, Box>) {
-                    add(s.min);
-                    add(s.max);
-                } else if constexpr (std::is_same_v<T, Csg>) {
-                    Aabb b = boundsCsg(s);
-                    add(glm::dvec3(b.min));
-                    add(glm::dvec3(b.max));
-                } else
-                    for (const Triangle& t : s.triangles) {
-                        add(t.v0);
-                        add(t.v1);
-                        add(t.v2);
-                    }
+                if constexpr (std::is_same_v<T, Sphere>) box.extend(boundsSphere(s));
+                else if constexpr (std::is_same_v<T, Cylinder>) box.extend(boundsCylinder(s));
+                else if constexpr (std::is_same_v<T, Plane>) box.extend(glm::vec3(s.point));
+                else if constexpr (std::is_same_v<T, Triangle>) box.extend(boundsTriangle(s));
+                else if constexpr (std::is_same_v<T, Box>) box.extend(boundsBox(s));
+                else if constexpr (std::is_same_v<T, Csg>) box.extend(boundsCsg(s));
+                else
+                    for (const Triangle& t : s.triangles) box.extend(boundsTriangle(t));
             },
             o.shape);
-    if (lo.x > hi.x) return 1.0;
-    return std::max(0.5 * glm::length(hi - lo), 1e-3);
+    if (box.empty()) return 1.0;
+    return std::max(0.5 * glm::length(glm::dvec3(box.max - box.min)), 1e-3);
 }
 
 }  // namespace whitted

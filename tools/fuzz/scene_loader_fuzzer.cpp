@@ -7,6 +7,8 @@
 // out-of-range value (__builtin_trap), a hang or runaway memory.
 #include "scene/scene_loader.h"
 
+#include "device_types.h"
+
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -47,7 +49,8 @@ void checkScene(const Scene& scene) {
     checkUnit(c.up);
     check(glm::length(c.windowCenter - c.eye) > 0);
     check(c.verticalFovDegrees > 0 && c.verticalFovDegrees < 180);
-    check(c.width >= 1 && c.width <= 16384 && c.height >= 1 && c.height <= 16384);
+    constexpr int maxSide = int(gpu::kMaxImageSide);
+    check(c.width >= 1 && c.width <= maxSide && c.height >= 1 && c.height <= maxSide);
     checkVector(scene.ambientLight);
     for (const PointLight& l : scene.lights) {
         checkVector(l.position);
