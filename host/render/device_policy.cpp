@@ -13,17 +13,22 @@ namespace {
 // before Mesa 25, whose device-address loads go lane by lane and word by word
 // (measured: see tools/benchmark_results/README.md; from Mesa 25 the
 // addresses are the faster), when every array fits one storage buffer range.
-// WHITTED_SCENE_READS=address or descriptor overrides the choice (the
-// latter only where the arrays fit; profiling, tests).
-bool sceneFromStorageBuffers(const VulkanContext& ctx, const GpuScene& scene) {
+// `reads` other than Auto forces either (the latter only where the arrays
+// fit; tests). In a developer build WHITTED_SCENE_READS=address or
+// descriptor does the same for a render whose settings leave it at Auto
+// (profiling).
+bool sceneFromStorageBuffers(const VulkanContext& ctx, const GpuScene& scene, SceneReads reads) {
     auto chain = ctx.physicalDevice.getProperties2<vk::PhysicalDeviceProperties2, vk::PhysicalDeviceDriverProperties>();
     const vk::PhysicalDeviceProperties& properties = chain.get<vk::PhysicalDeviceProperties2>().properties;
     bool fits = scene.bvhNodes.size() * sizeof(gpu::BvhNode) <= properties.limits.maxStorageBufferRange &&
                 scene.primitives.size() * sizeof(gpu::Primitive) <= properties.limits.maxStorageBufferRange &&
                 scene.materials.size() * sizeof(gpu::Material) <= properties.limits.maxStorageBufferRange &&
                 scene.lights.size() * sizeof(gpu::Light) <= properties.limits.maxStorageBufferRange;
-    if (const char* force = std::getenv("WHITTED_SCENE_READS"); force && *force)
-        return fits && std::string_view(force) == "descriptor";
+#ifdef WHITTED_DEVELOPER
+    if (const char* force = std::getenv("WHITTED_SCENE_READS"); reads == SceneReads::Auto && force && *force)
+        reads = std::string_view(force) == "descriptor" ? SceneReads::Descriptor : SceneReads::Address;
+#endif
+    if (reads != SceneReads::Auto) return fits && reads == SceneReads::Descriptor;
     // lavapipe's driverVersion is 1; its driverInfo reads "Mesa 22.3.6 (LLVM 15.0.6)".
     const auto& driver = chain.get<vk::PhysicalDeviceDriverProperties>();
     std::string_view info(driver.driverInfo.data());
@@ -93,9 +98,9 @@ TracePath resolveTrace(const VulkanContext& ctx, const RenderSettings& settings)
     return device.rayQuery && settings.useBvh && device.type != "cpu" ? TracePath::RayQuery : TracePath::Bvh;
 }
 
-ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, TracePath trace) {
+ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, TracePath trace, SceneReads reads) {
     if (trace == TracePath::RayQuery) return ShaderVariant::RayQuery;
-    return sceneFromStorageBuffers(ctx, scene) ? ShaderVariant::StorageBuffers : ShaderVariant::Addresses;
+    return sceneFromStorageBuffers(ctx, scene, reads) ? ShaderVariant::StorageBuffers : ShaderVariant::Addresses;
 }
 
 // The shapes in the BVH, any transparency, the shapes outside it (planes).

@@ -62,7 +62,7 @@ enum class ShaderVariant {
 };
 
 // The build a packed scene runs with on this device along `trace` (resolved).
-ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, TracePath trace);
+ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, TracePath trace, SceneReads reads);
 
 // The specialization constants for a packed scene, in the order of
 // gpu::kSpecShapeMask, gpu::kSpecTransparency, gpu::kSpecListShapeMask.

@@ -13,10 +13,12 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <vector>
+#ifdef WHITTED_DEVELOPER
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
-#include <vector>
+#endif
 
 namespace whitted {
 namespace {
@@ -26,7 +28,8 @@ double secondsSince(Clock::time_point start) {
     return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// Profiling hook (tools/profile_shader.sh): WHITTED_SHADER_SPV names a
+#ifdef WHITTED_DEVELOPER
+// Developer build only (tools/profile_shader.sh): WHITTED_SHADER_SPV names a
 // SPIR-V file compiled from shaders/whitted.comp with some feature switched
 // off, used instead of the embedded shader. Empty when unset.
 std::vector<uint32_t> shaderOverride() {
@@ -41,6 +44,7 @@ std::vector<uint32_t> shaderOverride() {
     std::memcpy(words.data(), bytes.data(), bytes.size());
     return words;
 }
+#endif
 
 // The embedded SPIR-V of a tracer build.
 std::span<const uint32_t> embeddedTracer(ShaderVariant variant) {
@@ -161,7 +165,7 @@ void Renderer::buildPipeline() {
     auto start = Clock::now();
     if (std::string shortfall = descriptorLimitShortfall(ctx_.physicalDevice.getProperties().limits); !shortfall.empty())
         throw std::runtime_error("device " + ctx_.deviceInfo().name + " " + shortfall);
-    shaderVariant_ = shaderVariantFor(ctx_, scene_, trace_);
+    shaderVariant_ = shaderVariantFor(ctx_, scene_, trace_, settings_.sceneReads);
     specialization_ = specializationFor(scene_);
     const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
                                                   {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
@@ -169,8 +173,10 @@ void Renderer::buildPipeline() {
     vk::SpecializationInfo specialization{.mapEntryCount = 3, .pMapEntries = entries,
                                           .dataSize = sizeof(specialization_), .pData = specialization_.data()};
     std::span<const uint32_t> spirv = embeddedTracer(shaderVariant_);
+#ifdef WHITTED_DEVELOPER
     std::vector<uint32_t> override = shaderOverride();
     if (!override.empty()) spirv = override;
+#endif
     std::vector<DescriptorBinding> bindings(std::begin(kTracerBindings), std::end(kTracerBindings));
     if (trace_ == TracePath::RayQuery)
         bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});
@@ -287,7 +293,7 @@ void Renderer::setScene(const Scene& scene) {
     // A shape or glass the old scene lacked needs the pipeline that has it;
     // arrays of another size may need the other way of reading them.
     if (specializationFor(scene_) != specialization_ ||
-        shaderVariantFor(ctx_, scene_, trace_) != shaderVariant_)
+        shaderVariantFor(ctx_, scene_, trace_, settings_.sceneReads) != shaderVariant_)
         buildPipeline();
     uploadScene();
 }
