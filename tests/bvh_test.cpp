@@ -6,8 +6,6 @@
 
 #include <algorithm>
 #include <bit>
-#include <cstdlib>
-#include <optional>
 #include <random>
 
 namespace whitted::test {
@@ -153,20 +151,17 @@ INSTANTIATE_TEST_SUITE_P(Scenes, BvhMatchesBruteForce,
 
 // The shader reads BVH nodes and primitives through their device addresses
 // or, on drivers that load a storage buffer faster (lavapipe before Mesa 25),
-// through storage buffers of the same arrays (WHITTED_SCENE_READS forces either):
-// both give the same image, value for value, and the same ray counts.
+// through storage buffers of the same arrays (RenderSettings::sceneReads forces
+// either): both give the same image, value for value, and the same ray counts.
 class SceneReads : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(SceneReads, DescriptorMatchesAddress) {
     Scene scene = loadScene(sourceDir() / "scenes" / (GetParam() + ".xml"));
     RenderSettings s{.width = 96, .height = 72, .samplesPerPixel = 1, .maxDepth = 6, .auxiliary = false};
-    const char* old = std::getenv("WHITTED_SCENE_READS");
-    std::optional<std::string> saved = old ? std::optional<std::string>(old) : std::nullopt;
-    ::setenv("WHITTED_SCENE_READS", "address", 1);
+    s.sceneReads = whitted::SceneReads::Address;
     RenderResult address = renderScene(scene, s);
-    ::setenv("WHITTED_SCENE_READS", "descriptor", 1);
+    s.sceneReads = whitted::SceneReads::Descriptor;
     RenderResult descriptor = renderScene(scene, s);
-    saved ? ::setenv("WHITTED_SCENE_READS", saved->c_str(), 1) : ::unsetenv("WHITTED_SCENE_READS");
     ASSERT_GT(address.bvh.nodeCount, 0u);
     int differing = 0;
     for (int y = 0; y < address.height; ++y)

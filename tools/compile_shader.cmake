@@ -7,11 +7,11 @@
 # Why spirv-opt: glslang's SPIR-V keeps every GLSL function a function.
 # Lavapipe turns it into NIR and inlines and optimises it each time a
 # pipeline is created (its pipeline cache keeps none of that); from SPIR-V
-# with the functions already inlined, Mesa 25.0's lavapipe creates the
-# tracer's pipeline in 0.22 s instead of 0.31 s, and the render is as fast
-# and the image the same. spirv-opt -O halves the pipeline time but its
-# code renders 5-10% slower on lavapipe (README, "Profiling"). SPIRV_OPT
-# empty: the SPIR-V is embedded as glslang wrote it.
+# with the functions already inlined, lavapipe creates the tracer's
+# pipeline sooner, and the render is as fast and the image the same.
+# spirv-opt -O shortens the pipeline time further but its code renders
+# slower on lavapipe (measured: see tools/benchmark_results/README.md).
+# SPIRV_OPT empty: the SPIR-V is embedded as glslang wrote it.
 foreach(var GLSLANG SOURCE HEADER VARIABLE INCLUDE)
   if(NOT DEFINED ${var})
     message(FATAL_ERROR "compile_shader.cmake: ${var} is not set")

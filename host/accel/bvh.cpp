@@ -25,8 +25,8 @@ struct BuildNode {
 
 // A primitive's bounds, centroid and input index, kept together and
 // partitioned in place so every pass reads memory in order (an index array
-// into the input bounds made each pass a random gather: half the build time
-// of a 1M-triangle mesh).
+// into the input bounds made each pass a random gather, a large share of a
+// big mesh's build time; measured: see tools/benchmark_results/README.md).
 struct PrimitiveRef {
     Aabb bounds;
     glm::vec3 centroid;

@@ -51,11 +51,11 @@ Loaded load() {
 // Debian's OpenImageIO pulls in OpenBLAS (through OpenCV), whose thread
 // pool starts with the library, a thread a core, and spins (sched_yield)
 // for a while before it sleeps: loaded beside the pipeline build, those
-// threads took a core from the render that followed (window proxy 54 ->
-// 74 ms, README "Profiling"). whitted never calls BLAS, so the pool gets one
-// thread, set before main() while the process has one thread (setenv is
-// not safe beside threads reading the environment); a user's own setting
-// is kept.
+// threads took a core from the render that followed (measured: see
+// tools/benchmark_results/README.md). whitted never calls BLAS, so the
+// pool gets one thread, set before main() while the process has one thread
+// (setenv is not safe beside threads reading the environment); a user's
+// own setting is kept.
 [[maybe_unused]] const bool kOpenBlasSingleThreaded = [] { return setenv("OPENBLAS_NUM_THREADS", "1", 0) == 0; }();
 
 // The load, once per process: started ahead by preloadImageLibrary, or run

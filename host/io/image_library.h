@@ -2,17 +2,17 @@
 // an image file is first read or written, or ahead of that on a second
 // thread (preloadImageLibrary).
 //
-// Why: Debian's OpenImageIO links some 260 shared libraries (OpenCV,
+// Why: Debian's OpenImageIO links hundreds of shared libraries (OpenCV,
 // FFmpeg, GDAL, DCMTK, ...), all built with BIND_NOW, so a process linked to
-// it spent about 0.17 s in the dynamic loader before main (2-core EPYC,
-// README "Profiling"). A process that writes no image (`whitted view`
-// without textures or screenshots, a refused scene, `whitted devices`) now
-// never pays it, and `whitted render` loads it on a second thread while
-// lavapipe builds the pipeline when a core is idle: 0.14 s sooner done on
-// an idle 2-core machine. On a busy one the load held up the pipeline build
-// (0.25 s; lowering the thread's priority did not help, so it is waiting
-// on the loader's locks, not for a core), hence the condition on an idle
-// core at that moment.
+// it spent a noticeable part of its start in the dynamic loader before main
+// (measured: see tools/benchmark_results/README.md). A process that writes
+// no image (`whitted view` without textures or screenshots, a refused
+// scene, `whitted devices`) now never pays it, and `whitted render` loads it
+// on a second thread while lavapipe builds the pipeline when a core is
+// idle, which finishes sooner. On a busy machine the load held up the
+// pipeline build (lowering the thread's priority did not help, so it is
+// waiting on the loader's locks, not for a core), hence the condition on an
+// idle core at that moment.
 //
 // The dynamic loader's state is per process, so the loaded module is too:
 // imageLibrary() hands out the one instance, loading it on first use.

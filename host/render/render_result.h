@@ -46,7 +46,7 @@ struct RenderResult {
     double renderSeconds = 0;
     uint64_t deviceBytes = 0;  // every buffer the render allocated on the device
     // Camera samples the driver cut short (a shader run over lavapipe's loop
-    // iteration cap, see renderer.cpp): 0 unless the image is incomplete.
+    // iteration cap, render/bands.h): 0 unless the image is incomplete.
     uint64_t lostSamples = 0;
 };
 

@@ -18,6 +18,14 @@ enum class TracePath {
     RayQuery,  // the device's acceleration structures through VK_KHR_ray_query
 };
 
+// How the tracer reads the scene's BVH nodes, primitives, materials and
+// lights (render/device_policy.h); every choice gives the same image.
+enum class SceneReads {
+    Auto,        // through storage buffers on lavapipe before Mesa 25, else through their device addresses
+    Address,     // through their device addresses
+    Descriptor,  // through storage buffer descriptors, where every array fits one storage buffer range
+};
+
 // Pixels x0 <= x < x1, y0 <= y < y1 of the full image.
 struct PixelRegion {
     int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
@@ -59,6 +67,8 @@ struct RenderSettings {
     // Sample every texture at its full-resolution level instead of the
     // ray-cone level (tests of the filtering, shaders/texture.glsl).
     bool textureLodZero = false;
+    // Auto: as suits the device. Tests force each way and compare the images.
+    SceneReads sceneReads = SceneReads::Auto;
 };
 
 }  // namespace whitted

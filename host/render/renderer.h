@@ -1,11 +1,15 @@
 // Uploads a scene, dispatches the Whitted compute shader tile by tile and
-// reads the image and its auxiliary layers back.
+// reads the image and its auxiliary layers back. What depends on the device
+// (which tracer build, its specialization, the limits) is decided in
+// render/device_policy.h; the band loop of renderTo is render/bands.h.
 #pragma once
 
 #include "accel/acceleration_structure.h"
 #include "device_types.h"
 #include "render/adaptive.h"
 #include "render/band_sink.h"
+#include "render/bands.h"
+#include "render/device_policy.h"
 #include "render/gpu_scene.h"
 #include "render/render_result.h"
 #include "render/render_settings.h"
@@ -14,27 +18,9 @@
 #include "vk/compute_pipeline.h"
 
 #include <algorithm>
-#include <array>
-#include <functional>
-#include <vector>
+#include <cstdint>
 
 namespace whitted {
-
-
-// What one scene array may take on the device: its maxBufferSize (Vulkan 1.3
-// or VK_KHR_maintenance4) and maxMemoryAllocationSize. The Renderer refuses
-// a scene whose arrays exceed them (sceneArraysTooLarge) before packing it.
-BufferLimits sceneBufferLimits(const VulkanContext& ctx);
-
-// Fraction of the work done so far, in [0, 1].
-using ProgressCallback = std::function<void(double)>;
-
-// The descriptor set asks for more than Vulkan guarantees every device (4
-// storage buffers and 16 samplers per stage; desktop GPUs and lavapipe
-// offer far more): what a device with these limits lacks, in words ("offers
-// 4 storage buffers per shader stage; whitted needs 9"), or "" when it has
-// enough. A Renderer refuses such a device before building its pipeline.
-std::string descriptorLimitShortfall(const vk::PhysicalDeviceLimits& limits);
 
 class Renderer {
 public:
@@ -79,11 +65,6 @@ public:
     TracePath trace() const { return trace_; }  // Bvh or RayQuery
 
 private:
-    class Batch;
-    void recordDispatch(const vk::raii::CommandBuffer& cmd, const gpu::TileParams& params, uint32_t groupsX,
-                        uint32_t groupsY) const;
-    void renderBandUniform(Batch& batch, const PixelRect& band);
-    void renderBandAdaptive(Batch& batch, const PixelRect& band);
     void buildPipeline();
     void uploadScene();
 
@@ -93,7 +74,8 @@ private:
     TracePath trace_ = TracePath::Bvh;  // settings_.trace resolved for the device
     SceneAccelerationStructures accelerationStructures_;  // ray queries only
     ComputePipeline pipeline_;
-    std::array<uint32_t, 4> specialization_{};  // what pipeline_ was specialised for; [3]: the storage-buffer variant
+    ShaderVariant shaderVariant_ = ShaderVariant::Addresses;  // the tracer build pipeline_ runs
+    Specialization specialization_{};  // the specialization constants pipeline_ was built with
     uint32_t layerCount_;
     ImageLayout layout_;
     uint32_t bandRows_ = 0;  // rows of the region per band

@@ -1,0 +1,274 @@
+#include "render/bands.h"
+
+#include "render/adaptive.h"
+
+#include <algorithm>
+#include <cstring>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace whitted {
+namespace {
+
+constexpr uint32_t kTileSize = 128;
+
+// Dispatches recorded into one command buffer and submission.
+constexpr size_t kDispatchesPerSubmit = 4;
+
+// Dispatches go to the queue in batches of kDispatchesPerSubmit, each after
+// a barrier (later dispatches may accumulate into the same pixels); the ray
+// counters are read, and the camera rays checked, once per batch.
+class Batch {
+public:
+    Batch(const BandResources& parts, RenderResult& result)
+        : parts_(parts), result_(result),
+          commandBuffers_(parts.ctx.device, {.commandPool = *parts.ctx.commandPool,
+                                             .level = vk::CommandBufferLevel::ePrimary, .commandBufferCount = 1}),
+          fence_(parts.ctx.device, vk::FenceCreateInfo{}) {}
+
+    // One dispatch; `cameraSamples` = pixels x samples it traces.
+    void add(const gpu::TileParams& params, uint32_t groupsX, uint32_t groupsY, uint64_t cameraSamples) {
+        vk::raii::CommandBuffer& cmd = commandBuffers_.front();
+        if (recorded_ == 0) {
+            begin();
+            cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *parts_.pipeline.pipeline);
+            cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *parts_.pipeline.layout, 0, parts_.descriptorSet,
+                                   nullptr);
+        }
+        recordDispatch(cmd, parts_.pipeline, params, groupsX, groupsY);
+        expected_ += cameraSamples;
+        if (++recorded_ == kDispatchesPerSubmit) flush();
+    }
+
+    // Submits what is recorded, with `copyBand` bytes of the output buffer
+    // copied to the read-back buffer after it, and waits.
+    void flush(vk::DeviceSize copyBand = 0) {
+        vk::raii::CommandBuffer& cmd = commandBuffers_.front();
+        if (recorded_ == 0 && copyBand == 0) return;
+        if (recorded_ == 0) begin();
+        if (copyBand > 0) {
+            vk::MemoryBarrier toCopy{.srcAccessMask = vk::AccessFlagBits::eShaderWrite,
+                                     .dstAccessMask = vk::AccessFlagBits::eTransferRead};
+            cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eTransfer, {},
+                                toCopy, nullptr, nullptr);
+            cmd.copyBuffer(*parts_.output.buffer, *parts_.readback.buffer, vk::BufferCopy{0, 0, copyBand});
+        }
+        vk::MemoryBarrier toHost{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
+                                 .dstAccessMask = vk::AccessFlagBits::eHostRead};
+        cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
+                            vk::PipelineStageFlagBits::eHost, {}, toHost, nullptr, nullptr);
+        cmd.end();
+        vk::CommandBuffer raw = *cmd;
+        parts_.ctx.queue.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &raw}, *fence_);
+        vk::Result waited = parts_.ctx.device.waitForFences(*fence_, VK_TRUE, UINT64_MAX);
+        if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
+        parts_.ctx.device.resetFences(*fence_);
+
+        // One camera ray per sample: fewer means the driver cut a run short.
+        const auto* counters = static_cast<const gpu::RayCounters*>(parts_.counters.mapped);
+        if (counters->primary < expected_) result_.lostSamples += expected_ - counters->primary;
+        result_.rays.primary += counters->primary;
+        result_.rays.shadow += counters->shadow;
+        result_.rays.secondary += counters->secondary;
+        result_.samplesTaken += expected_;
+        recorded_ = 0;
+        expected_ = 0;
+    }
+
+private:
+    // A fresh command buffer, and ray counters zeroed for it.
+    void begin() {
+        *static_cast<gpu::RayCounters*>(parts_.counters.mapped) = {};
+        commandBuffers_.front().reset();
+        commandBuffers_.front().begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
+    }
+
+    const BandResources& parts_;
+    RenderResult& result_;
+    vk::raii::CommandBuffers commandBuffers_;
+    vk::raii::Fence fence_;
+    size_t recorded_ = 0;
+    uint64_t expected_ = 0;
+};
+
+// Tiles of at most kTileSize^2 pixels covering `rect`.
+template <typename F>
+void forEachTile(const PixelRect& rect, F&& f) {
+    for (uint32_t y = 0; y < rect.height; y += kTileSize)
+        for (uint32_t x = 0; x < rect.width; x += kTileSize)
+            f(PixelRect{rect.x0 + x, rect.y0 + y, std::min(kTileSize, rect.width - x), std::min(kTileSize, rect.height - y)});
+}
+
+glm::uvec2 originOf(const PixelRect& r) { return {r.x0, r.y0}; }
+glm::uvec2 sizeOf(const PixelRect& r) { return {r.width, r.height}; }
+
+uint32_t groupsFor(uint32_t n) { return (n + gpu::kWorkgroupSize - 1) / gpu::kWorkgroupSize; }
+
+// Every pixel of the band takes samples [0, spp) of the spp pattern, in
+// dispatches of at most samplesPerDispatch camera samples and
+// kMaxSamplesPerInvocation samples a pixel; the first replaces the band
+// buffer's old sums. Sample indices are global, so the split changes only
+// the grouping, never which samples are traced or the order they are added.
+void renderBandUniform(const BandResources& parts, Batch& batch, const PixelRect& band) {
+    const RenderSettings& settings = parts.settings;
+    uint32_t spp = uint32_t(settings.samplesPerPixel);
+    forEachTile(band, [&](const PixelRect& tile) {
+        uint64_t pixels = uint64_t(tile.width) * tile.height;
+        uint32_t chunk = uint32_t(std::clamp<uint64_t>(std::max<uint64_t>(settings.samplesPerDispatch, 1) / pixels, 1, spp));
+        chunk = std::min(chunk, kMaxSamplesPerInvocation);
+        for (uint32_t s = 0; s < spp; s += chunk) {
+            uint32_t n = std::min(chunk, spp - s);
+            gpu::TileParams params{.tileOrigin = originOf(tile),
+                                   .tileSize = sizeOf(tile),
+                                   .firstSample = s,
+                                   .sampleCount = n,
+                                   .patternSize = spp,
+                                   .flags = s == 0 ? gpu::kTileOverwrite : 0u,
+                                   .outputOrigin = originOf(band),
+                                   .outputSize = sizeOf(band)};
+            batch.add(params, groupsFor(tile.width), groupsFor(tile.height), pixels * n);
+        }
+    });
+}
+
+// Adaptive anti-aliasing (render/adaptive.h): the centre sample of every
+// pixel of the band and of its one-pixel border (the border only feeds the
+// guide), then refinement passes over the pixels that need them.
+void renderBandAdaptive(const BandResources& parts, Batch& batch, const PixelRect& band) {
+    const RenderSettings& settings = parts.settings;
+    // Level k's pixels are decided on the band grown by L - k + 1 pixels
+    // (L levels), from level k - 1's samples one pixel further out: each
+    // level is traced in a border one pixel narrower, down to the band.
+    std::vector<uint32_t> levels = refinementLevels(uint32_t(settings.samplesPerPixel));
+    uint32_t border = uint32_t(levels.size());
+    uint32_t width = uint32_t(parts.imageWidth), height = uint32_t(parts.imageHeight);
+    PixelRect guideRect = grow(band, border, width, height);
+    forEachTile(guideRect, [&](const PixelRect& tile) {
+        gpu::TileParams params{.tileOrigin = originOf(tile),
+                               .tileSize = sizeOf(tile),
+                               .firstSample = 0,
+                               .sampleCount = 1,
+                               .patternSize = 1,
+                               .flags = gpu::kTileOverwrite | gpu::kTileGuide,
+                               .outputOrigin = originOf(band),
+                               .outputSize = sizeOf(band),
+                               .guideOrigin = originOf(guideRect),
+                               .guideSize = sizeOf(guideRect)};
+        batch.add(params, groupsFor(tile.width), groupsFor(tile.height), uint64_t(tile.width) * tile.height);
+    });
+    batch.flush();
+    if (levels.empty()) return;
+    std::vector<uint32_t> list = pixelsToRefine(
+        std::span(static_cast<const glm::uvec4*>(parts.guide.mapped), size_t(guideRect.width) * guideRect.height),
+        guideRect, grow(band, border - 1, width, height), settings.aaThreshold);
+
+    for (size_t level = 0; level < levels.size() && !list.empty(); ++level) {
+        uint32_t n = levels[level];
+        std::memcpy(parts.pixelList.mapped, list.data(), list.size() * sizeof(uint32_t));
+        // Slices of the list small enough for samplesPerDispatch.
+        uint32_t chunk = std::min(n, kMaxSamplesPerInvocation);
+        uint32_t slice = uint32_t(std::max<uint64_t>(settings.samplesPerDispatch / chunk, gpu::kListGroupSize));
+        for (uint32_t first = 0; first < list.size(); first += slice) {
+            uint32_t count = std::min<uint32_t>(slice, uint32_t(list.size()) - first);
+            for (uint32_t s = 0; s < n; s += chunk) {
+                uint32_t k = std::min(chunk, n - s);
+                uint32_t flags = gpu::kTileList | gpu::kTileStats | (s == 0 ? gpu::kTileOverwrite : 0u);
+                gpu::TileParams params{.firstSample = s,
+                                       .sampleCount = k,
+                                       .patternSize = n,
+                                       .flags = flags,
+                                       .outputOrigin = originOf(band),
+                                       .outputSize = sizeOf(band),
+                                       .listFirst = first,
+                                       .listCount = count};
+                batch.add(params, (count + gpu::kListGroupSize - 1) / gpu::kListGroupSize, 1, uint64_t(count) * k);
+            }
+        }
+        batch.flush();
+        if (level + 1 == levels.size()) break;
+        list = pixelsStillVarying(list,
+                                  std::span(static_cast<const glm::uvec4*>(parts.sampleStats.mapped), 2 * list.size()),
+                                  settings.aaThreshold, grow(band, border - 2 - uint32_t(level), width, height));
+    }
+}
+
+}  // namespace
+
+void recordDispatch(const vk::raii::CommandBuffer& cmd, const ComputePipeline& pipeline, const gpu::TileParams& params,
+                    uint32_t groupsX, uint32_t groupsY) {
+    vk::MemoryBarrier accumulate{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite |
+                                                  vk::AccessFlagBits::eHostWrite,
+                                 .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer |
+                            vk::PipelineStageFlagBits::eHost,
+                        vk::PipelineStageFlagBits::eComputeShader, {}, accumulate, nullptr, nullptr);
+    cmd.pushConstants<gpu::TileParams>(*pipeline.layout, vk::ShaderStageFlagBits::eCompute, 0, params);
+    cmd.dispatch(groupsX, groupsY, 1);
+}
+
+RenderResult renderBands(const BandResources& parts, BandSink& sink, const ProgressCallback& progress,
+                         uint32_t firstBand, uint32_t bandStep) {
+    const ImageLayout& layout = parts.layout;
+    RenderResult result;
+    result.width = layout.region.width();
+    result.height = layout.region.height();
+    result.samplesPerPixel = parts.settings.samplesPerPixel;
+    result.hasAuxiliary = parts.settings.auxiliary;
+    result.layout = layout;
+    Batch batch(parts, result);
+
+    const PixelRegion& region = layout.region;
+    uint32_t bandRows = parts.bandRows, layerCount = layout.layerCount;
+    std::vector<float> counts;
+    uint32_t bandCount = (uint32_t(region.height()) + bandRows - 1) / bandRows;
+    uint32_t mine = firstBand < bandCount ? (bandCount - firstBand + bandStep - 1) / bandStep : 0;
+    for (uint32_t index = firstBand; index < bandCount; index += bandStep) {
+        int y = region.y0 + int(index * bandRows);
+        PixelRect band{uint32_t(region.x0), uint32_t(y), uint32_t(region.width()),
+                       uint32_t(std::min<int>(int(bandRows), region.y1 - y))};
+        if (parts.settings.antiAliasing == AntiAliasing::Adaptive)
+            renderBandAdaptive(parts, batch, band);
+        else
+            renderBandUniform(parts, batch, band);
+        size_t pixels = size_t(band.width) * band.height;
+        batch.flush(vk::DeviceSize(layerCount) * pixels * sizeof(glm::vec4));
+
+        // Sums to means: every layer of a pixel over the samples it took
+        // (w of its colour layer); the hit-mask layers average the same way.
+        // In place, in the mapped read-back buffer: no host copy of the band.
+        float* raw = static_cast<float*>(parts.readback.mapped);
+        counts.resize(pixels);
+        for (size_t i = 0; i < pixels; ++i) counts[i] = raw[i * 4 + 3];
+        for (uint32_t layer = 0; layer < layerCount; ++layer)
+            for (size_t i = 0; i < pixels; ++i) {
+                float inverse = counts[i] > 0 ? 1.0f / counts[i] : 0.0f;
+                for (int c = 0; c < 4; ++c) raw[(layer * pixels + i) * 4 + c] *= inverse;
+            }
+        std::span<const float> means(raw, size_t(layerCount) * pixels * 4);
+        sink.writeBand({.index = int(index), .y0 = y, .rows = int(band.height), .width = int(band.width), .layers = means,
+                        .sampleCounts = counts});
+        ++result.bands;
+        if (progress) progress(double(result.bands) / double(mine));
+    }
+    return result;
+}
+
+MemorySink::MemorySink(RenderResult& result) : result_(result) {
+    size_t pixels = size_t(result.layout.region.width()) * result.layout.region.height();
+    result_.layers.resize(std::max(gpu::kAovCount, result.layout.layerCount));
+    for (uint32_t l = 0; l < result.layout.layerCount; ++l) result_.layers[l].resize(pixels * 4);
+    result_.sampleCounts.resize(pixels);
+}
+
+void MemorySink::writeBand(const BandView& band) {
+    size_t offset = size_t(band.y0 - result_.layout.region.y0) * band.width;
+    for (uint32_t l = 0; l < result_.layout.layerCount; ++l) {
+        std::span<const float> from = band.layer(l);
+        std::copy(from.begin(), from.end(), result_.layers[l].begin() + offset * 4);
+    }
+    std::copy(band.sampleCounts.begin(), band.sampleCounts.end(), result_.sampleCounts.begin() + offset);
+}
+
+}  // namespace whitted

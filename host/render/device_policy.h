@@ -1,0 +1,72 @@
+// What a render decides from the device it runs on: the limits the scene's
+// arrays and the descriptor set must fit, the path rays take (our BVH or the
+// device's ray queries), which embedded build of the tracer runs, and the
+// specialization constants it is compiled with for a scene.
+#pragma once
+
+#include "device_types.h"
+#include "render/gpu_scene.h"
+#include "render/render_settings.h"
+#include "vk/compute_pipeline.h"
+#include "vk/context.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <string>
+
+namespace whitted {
+
+// The tracer's descriptor set: the uniform block, the outputs, the adaptive
+// passes' buffers, the scene's arrays and the textures. Only the
+// storage-buffer build (ShaderVariant::StorageBuffers) reads the scene's
+// arrays through these bindings; the others read the same buffers through
+// their device addresses (shaders/scene.glsl). Ray queries add the top-level
+// acceleration structure (gpu::kBindingTlas).
+inline constexpr DescriptorBinding kTracerBindings[] = {
+    {gpu::kBindingParams, vk::DescriptorType::eUniformBuffer},
+    {gpu::kBindingOutput, vk::DescriptorType::eStorageBuffer},
+    {gpu::kBindingCounters, vk::DescriptorType::eStorageBuffer},
+    {gpu::kBindingPixelList, vk::DescriptorType::eStorageBuffer},
+    {gpu::kBindingGuide, vk::DescriptorType::eStorageBuffer},
+    {gpu::kBindingSampleStats, vk::DescriptorType::eStorageBuffer},
+    {gpu::kBindingBvhNodeBuffer, vk::DescriptorType::eStorageBuffer},
+    {gpu::kBindingPrimitiveBuffer, vk::DescriptorType::eStorageBuffer},
+    {gpu::kBindingMaterialBuffer, vk::DescriptorType::eStorageBuffer},
+    {gpu::kBindingLightBuffer, vk::DescriptorType::eStorageBuffer},
+    {gpu::kBindingTextures, vk::DescriptorType::eCombinedImageSampler, gpu::kMaxTextures}};
+inline constexpr uint32_t kTracerStorageBindings =
+    uint32_t(std::ranges::count(kTracerBindings, vk::DescriptorType::eStorageBuffer, &DescriptorBinding::type));
+
+// What one scene array may take on the device: its maxBufferSize (Vulkan 1.3
+// or VK_KHR_maintenance4) and maxMemoryAllocationSize. The Renderer refuses
+// a scene whose arrays exceed them (sceneArraysTooLarge) before packing it.
+BufferLimits sceneBufferLimits(const VulkanContext& ctx);
+
+// The descriptor set asks for more than Vulkan guarantees every device (4
+// storage buffers and 16 samplers per stage; desktop GPUs and lavapipe
+// offer far more): what a device with these limits lacks, in words ("offers
+// 4 storage buffers per shader stage; whitted needs 9"), or "" when it has
+// enough. A Renderer refuses such a device before building its pipeline.
+std::string descriptorLimitShortfall(const vk::PhysicalDeviceLimits& limits);
+
+// The path a render takes on this device: settings.trace resolved to Bvh or
+// RayQuery; throws when ray queries are asked for and the device lacks them.
+TracePath resolveTrace(const VulkanContext& ctx, const RenderSettings& settings);
+
+// The embedded builds of shaders/whitted.comp.
+enum class ShaderVariant {
+    Addresses,       // kWhittedCompSpv: the scene's arrays through their device addresses
+    StorageBuffers,  // kWhittedCompStorageBuffersSpv (-DWHITTED_SCENE_STORAGE_BUFFERS): through descriptors
+    RayQuery,        // kWhittedCompRayQuerySpv (-DWHITTED_RAY_QUERY): the device's acceleration structures
+};
+
+// The build a packed scene runs with on this device along `trace` (resolved).
+ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, TracePath trace, SceneReads reads);
+
+// The specialization constants for a packed scene, in the order of
+// gpu::kSpecShapeMask, gpu::kSpecTransparency, gpu::kSpecListShapeMask.
+using Specialization = std::array<uint32_t, 3>;
+Specialization specializationFor(const GpuScene& scene);
+
+}  // namespace whitted
