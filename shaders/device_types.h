@@ -73,7 +73,7 @@ WHITTED_CONST uint kShapeBox = 4;
 // unbounded ones, so a hit reports the leaf primitive that was struck.
 WHITTED_CONST uint kShapeCsg = 5;
 
-// CSG limits (README "CSG"), set by the shader's fixed-size state in
+// CSG limits (scenes/README.md "CSG"), set by the shader's fixed-size state in
 // intersectCsg (shaders/shapes/csg.glsl): each leaf's span along the ray is
 // held in arrays of kCsgMaxLeaves entries and the set of leaves a point is
 // inside in one 32-bit mask; the tree is evaluated as a postfix program on a

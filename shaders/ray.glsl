@@ -16,7 +16,7 @@ struct Hit {
     uint primitive;
 };
 
-// Texture coordinates at a surface point (README "Textures") and their
+// Texture coordinates at a surface point (scenes/README.md "Textures") and their
 // derivatives: the world-space change of the point per unit of u and of v.
 // |dpdu x dpdv| is the world area one unit square of texture covers, which
 // the ray-cone LOD needs (shaders/texture.glsl).

@@ -1,4 +1,4 @@
-// Local Phong shading at a hit point (README, "Shading model").
+// Local Phong shading at a hit point (scenes/scenes/README.md, "Shading model").
 #ifndef WHITTED_SHADING_GLSL
 #define WHITTED_SHADING_GLSL
 #include "intersect.glsl"

@@ -1,4 +1,4 @@
-// Image textures (README "Textures"): texture coordinates of any primitive,
+// Image textures (scenes/README.md "Textures"): texture coordinates of any primitive,
 // the filter footprint by ray cones, and the texture lookups.
 //
 // Level of detail by ray cones ("Texture Level of Detail Strategies for

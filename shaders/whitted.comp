@@ -299,7 +299,7 @@ void main() {
 
     // One atomic add per counter and subgroup, not per invocation: lavapipe
     // runs a per-invocation atomic lane by lane, on a counter that the other
-    // cores' threads add to as well (README, "Profiling").
+    // cores' threads add to as well (tools/benchmark_results/README.md, "Profiling and what each change gained").
     uvec3 groupCount = subgroupAdd(rayCount);
     if (subgroupElect()) {
         atomicAdd(counters.primary, groupCount.x);

@@ -1,4 +1,4 @@
-// Constructive solid geometry (README "CSG"; host/shapes/csg.cpp,
+// Constructive solid geometry (scenes/README.md "CSG"; host/shapes/csg.cpp,
 // shaders/shapes/csg.glsl): what the loader builds, a difference's shadow
 // against the camera's view of it, and a glass lens made as the
 // intersection of two spheres against the thick-lens formula. The POV-Ray

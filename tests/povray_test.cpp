@@ -379,7 +379,7 @@ TEST(PovrayCrossCheck, ColouredShadowsOfGlassOutOfView) {
 
 // The same glass with absorption: POV-Ray's exponential fade (fade_power
 // 1001) attenuates shadow rays by exp(-sigma d) over the length inside, as
-// ours (README, "Shading model"); the sphere's chords and the thin box's
+// ours (scenes/scenes/README.md, "Shading model"); the sphere's chords and the thin box's
 // slanted paths give a range of lengths.
 TEST(PovrayCrossCheck, AbsorbingGlassShadowsOutOfView) {
     std::string xml = kGlassShadowsXml;
@@ -391,7 +391,7 @@ TEST(PovrayCrossCheck, AbsorbingGlassShadowsOutOfView) {
     expectAgreement("absorbing_glass_shadows", loadSceneFromString(xml, "absorbing_glass_shadows.xml"));
 }
 
-// Image textures (README "Textures"), exported as image_map pigments: a
+// Image textures (scenes/README.md "Textures"), exported as image_map pigments: a
 // smooth test texture (tests/test_support.h), 8-bit sRGB, on white objects.
 // POV-Ray has no mip maps: the textures here are magnified or near one
 // texel per pixel, where ours samples level 0 too. The scene files and

@@ -51,7 +51,7 @@ TEST(QuickLook, ModelIsInFrame) {
         ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
         Scene scene = quickLookScene(model);
         // The model (one object per material of a file with its own
-        // materials, README "Model files"), then the floor.
+        // materials, scenes/README.md "Model files"), then the floor.
         ASSERT_GE(scene.objects.size(), 2u);
         for (size_t i = 0; i + 1 < scene.objects.size(); ++i)
             ASSERT_TRUE(std::holds_alternative<Mesh>(scene.objects[i].shape));

@@ -45,7 +45,7 @@ std::filesystem::path assimpTestModel(const std::string& relative);
 void expectGoldenMatch(const std::filesystem::path& got, const std::filesystem::path& want,
                        const std::filesystem::path& diffPath, const std::string& what);
 
-// Test textures (README "Textures"), written at run time as 8-bit sRGB PNG
+// Test textures (scenes/README.md "Textures"), written at run time as 8-bit sRGB PNG
 // files: `colour(u, v)` gives the linear colour of the texel whose centre
 // is at (u, v) (v up, as the scene's texture coordinates).
 void writeTestTexture(const std::filesystem::path& path, int width, int height,

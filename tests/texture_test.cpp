@@ -1,4 +1,4 @@
-// Image textures (README "Textures"): reading and decoding the files, where
+// Image textures (scenes/README.md "Textures"): reading and decoding the files, where
 // each mapping puts the image, the ray-cone filter against supersampling,
 // and bad input. The POV-Ray cross-checks of the spherical map and of mesh
 // UVs are in tests/povray_test.cpp (PovrayCrossCheck.Textured*).
@@ -341,7 +341,7 @@ TEST(NormalMap, FlatMapChangesNothing) {
 }
 
 // A constant tilted map on a wall facing the camera: the centre pixel sees
-// the point (0, 0, 0) and must show Phong shading (README "Shading model")
+// the point (0, 0, 0) and must show Phong shading (scenes/README.md "Shading model")
 // computed here with the tilted normal: tilted towards +u = +x (red) or
 // towards +v = +y (green up), at full and at half strength (x and y of the
 // map scaled by 0.5).

@@ -9,7 +9,7 @@ frame, written through a printf-style pattern (-o frames/%04d.png).
 
 Scene files (and the meshes they name) must be readable at the same absolute
 path on every worker; `whitted` must be on each worker's PATH (or --whitted).
-See README.md, "Render farm".
+See tools/README.md, "Render farm".
 """
 
 import argparse

@@ -1,5 +1,5 @@
 // whitted_povray_export: writes a scene file as POV-Ray 3.7 SDL (see
-// host/scene/povray_export.h and README "Cross-check against POV-Ray").
+// host/scene/povray_export.h and tests/README.md "Cross-check against POV-Ray").
 //
 //   whitted_povray_export SCENE.xml OUT.pov [--width W] [--height H] [--max-depth D]
 //   povray -D +WW +HH +FE File_Gamma=1.0 +IOUT.pov +Oout.exr

@@ -82,8 +82,8 @@ Scene quickLookScene(const std::filesystem::path& model) {
     // dimmer fill low on the right, so that no side facing the camera is black.
     glm::dvec3 right = glm::normalize(glm::cross(-toEye, camera.up));
     scene.lights.clear();
-    scene.lights.push_back({centre + 4 * radius * (0.5 * toEye - right + glm::dvec3(0, 1.5, 0)), glm::dvec3(0.85)});
-    scene.lights.push_back({centre + 4 * radius * (toEye + right + glm::dvec3(0, 0.2, 0)), glm::dvec3(0.25)});
+    scene.lights.push_back({.position = centre + 4 * radius * (0.5 * toEye - right + glm::dvec3(0, 1.5, 0)), .color = glm::dvec3(0.85)});
+    scene.lights.push_back({.position = centre + 4 * radius * (toEye + right + glm::dvec3(0, 0.2, 0)), .color = glm::dvec3(0.25)});
 
     // A grey checkered floor just under the model (a thousandth of its size
     // below, so a model standing on y = min does not touch it).

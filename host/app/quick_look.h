@@ -2,7 +2,7 @@
 // model file where a scene file is expected. A scene is built in memory: the
 // model as a mesh object with no colour of its own (as an XML mesh without
 // <diffuse_color>), a camera framing it from a 3/4 view, a key and a fill
-// light, and a floor just under it (README "Quick looks").
+// light, and a floor just under it (scenes/README.md "Quick looks").
 #pragma once
 
 #include "scene/scene.h"

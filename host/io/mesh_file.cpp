@@ -18,7 +18,7 @@
 namespace whitted {
 namespace {
 
-// The scene format's limit on any coordinate (README "Scene files").
+// The scene format's limit on any coordinate (scenes/README.md "Scene files").
 constexpr double kMaxMagnitude = 1e6;
 
 bool finiteWithin(const glm::dvec3& v, double limit) {

@@ -52,7 +52,7 @@ std::vector<TextureLevel> buildLevels(int width, int height, std::vector<float> 
 
 // A texture from a decoded file, or TextureFileError.
 TextureData fromDecoded(const DecodedImage& image, TextureEncoding encoding, const std::string& name) {
-    // The largest side accepted is the image's (README "Scene files").
+    // The largest side accepted is the image's (scenes/README.md "Scene files").
     constexpr int maxSide = int(gpu::kMaxImageSide);
     if (image.width < 1 || image.height < 1 || image.width > maxSide || image.height > maxSide)
         throw TextureFileError("is " + std::to_string(image.width) + "x" + std::to_string(image.height) +

@@ -234,7 +234,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
         if (p.shape == gpu::kShapeCsg) p.a.w = glm::uintBitsToFloat(leafBase + glm::floatBitsToUint(p.a.w));
     g.primitives.insert(g.primitives.end(), csg.leaves.begin(), csg.leaves.end());
     g.csgNodes = std::move(csg.nodes);
-    for (const PointLight& light : scene.lights)
+    for (const Light& light : scene.lights)
         g.lights.push_back({.position = glm::vec3(light.position), .color = glm::vec3(light.color)});
 
     packCamera(scene.camera, g.width, g.height, g.params);

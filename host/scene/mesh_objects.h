@@ -1,7 +1,7 @@
 // The mesh part of the scene loader: an <object> of type mesh, from inline
 // <polygons> or a model <file> (io/mesh_file.h), placed by its <position>,
 // <scale> and <rotation>; a model file whose own materials apply split
-// into one object per material (README "Model files"). Also the triangle
+// into one object per material (scenes/README.md "Model files"). Also the triangle
 // reading and the degenerate-triangle test the triangle type shares.
 #pragma once
 

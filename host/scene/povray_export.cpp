@@ -237,7 +237,7 @@ std::string exportPovray(const Scene& scene, const PovrayExportOptions& options)
       << "}\n\n";
 
     // Point lights; POV-Ray's default fade_power 0 means no falloff.
-    for (const PointLight& light : scene.lights)
+    for (const Light& light : scene.lights)
         s << "light_source { " << vec(light.position) << " color rgb " << vec(light.color) << " }\n";
     s << "\n";
 

@@ -1,5 +1,5 @@
 // Writes a scene as POV-Ray 3.7 scene description language (SDL), for an
-// independent cross-check of the renderer against POV-Ray (see README
+// independent cross-check of the renderer against POV-Ray (see tests/README.md
 // "Cross-check against POV-Ray" and tests/povray_test.cpp).
 //
 // What maps exactly (POV-Ray 3.7 source: backend/render/trace.cpp,

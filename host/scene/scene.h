@@ -37,12 +37,28 @@ struct Camera {
     int height = 480;
 };
 
-struct PointLight {
-    glm::dvec3 position{0, 0, 0};
-    glm::dvec3 color{1, 1, 1};  // linear RGB radiant intensity, no falloff
+// A light (scenes/README.md "Scene files"): the seed's point light, and the
+// spot and directional lights of glTF's KHR_lights_punctual and POV-Ray.
+// What arrives at a point at distance d is color * intensity, divided by d^2
+// with inverse-square falloff; a spot scales it by
+// saturate((cos theta - cos outer) / (cos inner - cos outer))^2, theta the
+// angle from its direction (the KHR_lights_punctual formula).
+struct Light {
+    enum class Type { Point, Spot, Directional };
+    enum class Falloff { None, InverseSquare };
+    Type type = Type::Point;
+    glm::dvec3 position{0, 0, 0};    // point and spot; a directional light has none
+    glm::dvec3 direction{0, 0, -1};  // spot and directional: unit, the way the light travels
+    glm::dvec3 color{1, 1, 1};       // linear RGB radiant intensity
+    double intensity = 1.0;          // multiplies color
+    Falloff falloff = Falloff::None;  // None: the seed's lights, no falloff
+    double innerAngleDegrees = 0.0;   // spot: 0 <= inner < outer <= 90
+    double outerAngleDegrees = 45.0;
+    std::string name{};  // optional (<name>, a glTF light's name)
+    int sourceLine = 0;
 };
 
-// Phong + Whitted material (see README "Shading model").
+// Phong + Whitted material (see scenes/README.md "Shading model").
 struct Material {
     glm::dvec3 diffuseColor{1, 1, 1};   // Cd
     glm::dvec3 specularColor{1, 1, 1};  // Cs
@@ -60,7 +76,7 @@ struct Material {
     double checkerSize = 0.0;
     glm::dvec3 checkerOrigin{0, 0, 0};  // the object's <position> (with a checker)
     glm::dvec3 absorption{0, 0, 0};     // Beer-Lambert sigma per unit length, inside the object
-    // Image texture multiplying Cd (README "Textures"), and on planes the
+    // Image texture multiplying Cd (scenes/README.md "Textures"), and on planes the
     // world length of one repeat of it.
     TextureRef diffuseTexture{};
     double textureScale = 1.0;
@@ -68,6 +84,13 @@ struct Material {
     // +v) and how far it tilts the normal: its x, y scaled by the strength.
     TextureRef normalMap{};
     double normalStrength = 1.0;
+    // With fresnel, `reflection` is F0 of Schlick's approximation: the
+    // reflected ray weighs Cs (kr + (1 - kr)(1 - cos theta)^5) and the
+    // transmitted one kt (1 - F) (POV-Ray's `fresnel on`).
+    bool fresnel = false;
+    glm::dvec3 transmissionColor{1, 1, 1};  // tints refracted light and the shadow filter (MTL Tf)
+    glm::dvec3 emission{0, 0, 0};           // added where a ray hits the surface; lights nothing else
+    std::optional<glm::dvec3> ambientColor{};  // the ambient term's colour (MTL Ka); none: Cd
 };
 
 struct Sphere {
@@ -141,7 +164,7 @@ struct CsgChild;
 inline constexpr size_t kCsgMaxLeaves = 16;
 inline constexpr int kCsgMaxDepth = 8;
 
-// Constructive solid geometry (README "CSG"): the union, intersection or
+// Constructive solid geometry (scenes/README.md "CSG"): the union, intersection or
 // difference (the first child minus the others) of closed solids: spheres,
 // cylinders, boxes and nested csg objects. The children are in world space;
 // position is the csg object's <position>, which they were placed from.
@@ -170,6 +193,7 @@ size_t csgLeafCount(const Csg& csg);
 struct Object {
     Shape shape;
     Material material;
+    std::string name{};  // optional (<name>; a glTF node's or an OBJ group's name)
     int sourceLine = 0;  // line of the <object> element, for messages
 };
 
@@ -177,7 +201,7 @@ struct Scene {
     std::filesystem::path sourcePath;
     Camera camera;
     glm::dvec3 ambientLight{1, 1, 1};  // A
-    std::vector<PointLight> lights;
+    std::vector<Light> lights;
     std::vector<Object> objects;
     std::vector<std::string> warnings;  // degenerate but legal input
 };

@@ -26,7 +26,7 @@ namespace {
 
 using namespace xml;
 
-// The format's limits (README "Scene files") are the XML reader's
+// The format's limits (scenes/README.md "Scene files") are the XML reader's
 // (scene/xml_reader.h), the image side gpu::kMaxImageSide and these.
 // |cross(a, b)| of unit vectors below this counts as parallel.
 constexpr double kParallelTolerance = 1e-6;
@@ -171,7 +171,7 @@ private:
             ElementReader l(diag_, light, {{"position"}, {"color"}});
             glm::dvec3 position = vector(diag_, l.required("position"));
             glm::dvec3 color = colour(diag_, l.required("color"), kNonNegative);
-            scene_.lights.push_back({position, color});
+            scene_.lights.push_back({.position = position, .color = color, .sourceLine = light->GetLineNum()});
         }
         if (scene_.lights.empty()) diag_.warn(e, "scene has no lights; only ambient light will show");
     }
@@ -195,7 +195,7 @@ private:
     };
 
     // One object, or for a model file with materials of its own, used when
-    // the scene gives the object no colour (README "Model files"), one per
+    // the scene gives the object no colour (scenes/README.md "Model files"), one per
     // material of the file (a csg child is one object: meshes are refused there).
     std::vector<Object> readObject(const XMLElement* e, const CsgParent* csg = nullptr) {
         ElementReader object(diag_, e,
@@ -247,7 +247,7 @@ private:
     // <diffuse_texture> and <normal_map> on every type but triangle (which
     // has no texture coordinates; a mesh of one polygon with <uv> has),
     // <normal_strength> with a <normal_map>, <texture_scale> on
-    // planes only (README "Textures"). Left unread elsewhere, they are
+    // planes only (scenes/README.md "Textures"). Left unread elsewhere, they are
     // reported as not applying to the type.
     void readTextures(const std::string& type, ElementReader& properties, Object& object) {
         if (type == "triangle") return;
@@ -304,7 +304,7 @@ private:
     }
 
 
-    // A csg object (README "CSG"): <operation> in <properties>, its children
+    // A csg object (scenes/README.md "CSG"): <operation> in <properties>, its children
     // in <objects>, placed relative to its <position> (the parent's origin
     // without one). The leaves of a top-level csg object are limited by the
     // shader's fixed-size state (device_types.h).

@@ -1,5 +1,5 @@
 // Reads a scene from the seed's XML format (plus this project's extensions,
-// see README "Scene files") into the CPU scene model. Bad input is refused
+// see scenes/README.md "Scene files") into the CPU scene model. Bad input is refused
 // with the file, the line and what was expected; nothing is guessed and no
 // element is silently ignored.
 #pragma once

@@ -229,7 +229,7 @@ std::string sceneXml(const Scene& scene, const std::filesystem::path& destinatio
     writeCamera(x, scene.camera);
     x.colour("ambient_light", scene.ambientLight);
     x.open("lights");
-    for (const PointLight& l : scene.lights) {
+    for (const Light& l : scene.lights) {
         x.open("light");
         x.vector("position", l.position);
         x.colour("color", l.color);

@@ -12,7 +12,7 @@
 namespace whitted {
 
 // The scene as XML text (this project's schema: the seed's elements plus
-// the extensions of README "Scene files"). A mesh read from a model file is
+// the extensions of scenes/README.md "Scene files"). A mesh read from a model file is
 // written as its <file> (with <scale> and <rotation>), the path relative to
 // the folder of `destination`, the file the text is for (absolute without).
 std::string sceneXml(const Scene& scene, const std::filesystem::path& destination = {});

@@ -24,7 +24,7 @@ using tinyxml2::XMLElement;
 using tinyxml2::XMLNode;
 using tinyxml2::XMLText;
 
-// Every number of the format is within ±kMaxMagnitude (README "Scene files").
+// Every number of the format is within ±kMaxMagnitude (scenes/README.md "Scene files").
 inline constexpr double kMaxMagnitude = 1e6;
 // Below this length a direction (or the eye-to-window vector) counts as zero.
 inline constexpr double kMinLength = 1e-12;

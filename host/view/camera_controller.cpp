@@ -97,7 +97,7 @@ std::string cameraXml(const Camera& camera, int indent) {
 double sceneRadius(const Scene& scene) {
     // The shapes' own bounds (host/shapes/); a plane, unbounded, by its point.
     Aabb box;
-    for (const PointLight& l : scene.lights) box.extend(glm::vec3(l.position));
+    for (const Light& l : scene.lights) box.extend(glm::vec3(l.position));
     for (const Object& o : scene.objects)
         std::visit(
             [&](const auto& s) {

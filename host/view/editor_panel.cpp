@@ -79,7 +79,7 @@ void drawOverlay(const OverlayInfo& info) {
     }
 }
 
-// The parts of one model file split by its own materials (README "Model
+// The parts of one model file split by its own materials (scenes/README.md "Model
 // files") are one object to the user: an edit of a part (its placement, its
 // material apart from the file's colour and textures) is applied to the
 // others, so the scene writer, which names the file once, saves what the
@@ -142,7 +142,7 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
 
     ImGui::Separator();
     if (state.selectedLight >= 0 && state.selectedLight < int(scene.lights.size())) {
-        PointLight& l = scene.lights[state.selectedLight];
+        Light& l = scene.lights[state.selectedLight];
         ImGui::Text("light %d", state.selectedLight);
         result.changed |= editVector("position", l.position, 0.02f);
         result.changed |= editColour("colour", l.color, true);
@@ -167,7 +167,7 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
             }
         }
         if (auto* csg = std::get_if<Csg>(&o.shape)) {
-            // The csg object's operation (README "CSG").
+            // The csg object's operation (scenes/README.md "CSG").
             int op = int(csg->operation);
             if (ImGui::Combo("operation", &op, "union\0intersection\0difference\0")) {
                 csg->operation = Csg::Operation(op);
@@ -208,7 +208,7 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         }
         // Beer-Lambert sigma per unit length (<absorption>): any value >= 0.
         result.changed |= editColour("absorption", m.absorption, true);
-        // Texture controls (README "Textures"): a plane's repeat length, a
+        // Texture controls (scenes/README.md "Textures"): a plane's repeat length, a
         // normal map's strength.
         if (std::holds_alternative<Plane>(o.shape) && (m.diffuseTexture || m.normalMap)) {
             float scale = float(m.textureScale);

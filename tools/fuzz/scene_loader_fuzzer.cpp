@@ -1,7 +1,7 @@
 // libFuzzer target for the XML scene loader (tools/run_fuzzer.sh builds and
 // runs it). Whatever the bytes, loadSceneFromString must either refuse them
 // with a SceneError or return a scene that keeps the loader's promises
-// (README "Scene files"). Anything else is a finding: another exception
+// (scenes/README.md "Scene files"). Anything else is a finding: another exception
 // (std::terminate aborts), a crash, an AddressSanitizer or
 // UndefinedBehaviorSanitizer report, a scene with a non-finite or
 // out-of-range value (__builtin_trap), a hang or runaway memory.
@@ -52,7 +52,7 @@ void checkScene(const Scene& scene) {
     constexpr int maxSide = int(gpu::kMaxImageSide);
     check(c.width >= 1 && c.width <= maxSide && c.height >= 1 && c.height <= maxSide);
     checkVector(scene.ambientLight);
-    for (const PointLight& l : scene.lights) {
+    for (const Light& l : scene.lights) {
         checkVector(l.position);
         checkVector(l.color);
         for (int i = 0; i < 3; ++i) check(l.color[i] >= 0);
