@@ -26,8 +26,8 @@ int main(int argc, char** argv) {
     PovrayExportOptions options;
     app.add_option("scene", scenePath, "scene XML file")->required();
     app.add_option("output", outPath, "POV-Ray file to write (.pov)")->required();
-    app.add_option("--width", options.width, "image width in pixels [scene's]")->check(CLI::Range(1, 16384));
-    app.add_option("--height", options.height, "image height in pixels [scene's]")->check(CLI::Range(1, 16384));
+    app.add_option("--width", options.width, "image width in pixels [scene's]")->check(CLI::Range(1, int(gpu::kMaxImageSide)));
+    app.add_option("--height", options.height, "image height in pixels [scene's]")->check(CLI::Range(1, int(gpu::kMaxImageSide)));
     app.add_option("--max-depth", options.maxDepth, "secondary bounces; 0 = local shading only")
         ->check(CLI::Range(0, int(gpu::kMaxDepthLimit)))->capture_default_str();
     try {
