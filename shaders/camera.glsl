@@ -1,13 +1,22 @@
 #ifndef WHITTED_CAMERA_GLSL
 #define WHITTED_CAMERA_GLSL
+#include "device_types.h"
 #include "ray.glsl"
 
-// Pinhole camera ray through the point `pixel` (pixel units, origin at the
-// top-left corner of the image). right/up are pre-scaled by the half extents
-// of the image window at unit distance, so the window spans [-1, 1]^2.
-Ray generateCameraRay(vec2 pixel, vec2 imageSize, vec3 eye, vec3 forward, vec3 right, vec3 up) {
+// Camera ray through the point `pixel` (pixel units, origin at the
+// top-left corner of the image), the window spanning [-1, 1]^2 of right/up.
+// Pinhole: right/up are pre-scaled by the half extents of the image window
+// at unit distance. Orthographic (kProjectionOrthographic): by the window's
+// half extents in the scene, and every ray runs along forward from its
+// point of the window through eye.
+Ray generateCameraRay(vec2 pixel, vec2 imageSize, vec3 eye, vec3 forward, vec3 right, vec3 up, uint projection) {
     vec2 ndc = vec2(2.0 * pixel.x / imageSize.x - 1.0, 1.0 - 2.0 * pixel.y / imageSize.y);
     Ray ray;
+    if (projection == kProjectionOrthographic) {
+        ray.origin = eye + ndc.x * right + ndc.y * up;
+        ray.dir = forward;
+        return ray;
+    }
     ray.origin = eye;
     ray.dir = normalize(forward + ndc.x * right + ndc.y * up);
     return ray;

@@ -256,16 +256,20 @@ struct CsgNode {
     uint pad1 WHITTED_ZERO;
 };
 
+// FrameParams.projection: how camera rays leave the eye (shaders/camera.glsl).
+WHITTED_CONST uint kProjectionPerspective = 0u;
+WHITTED_CONST uint kProjectionOrthographic = 1u;
+
 // Per-render constants (uniform buffer). The addresses are device addresses
 // as (low, high) words.
 struct FrameParams {
-    vec3 eye WHITTED_ZERO;                 // camera position
-    float pad0 WHITTED_ZERO;
+    vec3 eye WHITTED_ZERO;                 // camera position (orthographic: the window's centre)
+    uint projection WHITTED_ZERO;          // kProjection*
     vec3 forward WHITTED_ZERO;             // unit view direction
     float pad1 WHITTED_ZERO;
-    vec3 right WHITTED_ZERO;               // image right, scaled by tan(fov/2) * aspect
+    vec3 right WHITTED_ZERO;               // image right, scaled by tan(fov/2) * aspect (orthographic: half the window's width)
     float pad2 WHITTED_ZERO;
-    vec3 up WHITTED_ZERO;                  // image up, scaled by tan(fov/2)
+    vec3 up WHITTED_ZERO;                  // image up, scaled by tan(fov/2) (orthographic: half the window's height)
     float pad3 WHITTED_ZERO;
     vec3 ambientLight WHITTED_ZERO;        // A
     float pad4 WHITTED_ZERO;
@@ -350,7 +354,7 @@ struct DisplayParams {
     uint pad2 WHITTED_ZERO;
     float scalarScale WHITTED_ZERO;
     float depthMedian WHITTED_ZERO;
-    float pad3 WHITTED_ZERO;
+    float exposure WHITTED_ZERO;  // kDisplayColor: the mean is scaled by 2^exposure before encoding (--exposure)
     float pad4 WHITTED_ZERO;
 };
 

@@ -32,7 +32,7 @@ void main() {
     vec3 shown = vec3(0.0);
     if (samples > 0.0) {
         if (display.kind == kDisplayColor) {
-            vec3 mean = s.rgb / samples;
+            vec3 mean = s.rgb / samples * exp2(display.exposure);
             shown = linearToSrgb(mean);
         } else if (display.kind == kDisplayScalar) {
             shown = vec3(s[display.channel] / samples * display.scalarScale);

@@ -91,8 +91,11 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
     vec3 sampleColor = vec3(0.0);  // the current sample's colour so far
     uint sampleObject = kNoObject;
     // A camera ray's cone: width 0 at the eye, spread one pixel's angle
-    // (Ray Tracing Gems ch. 20, eq. 20.30: atan(2 tan(fov/2) / height)).
-    float pixelSpread = atan(2.0 * length(params.up) / size.y);
+    // (Ray Tracing Gems ch. 20, eq. 20.30: atan(2 tan(fov/2) / height));
+    // orthographic: one pixel wide, no spread.
+    bool orthographic = params.projection == kProjectionOrthographic;
+    vec2 pixelCone = orthographic ? vec2(2.0 * length(params.up) / size.y, 0.0)
+                                  : vec2(0.0, atan(2.0 * length(params.up) / size.y));
 
     while (top > 0 || nextSample < end) {
         if (top == 0) {
@@ -101,8 +104,8 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             sampleObject = kNoObject;
             vec2 offset = pixelSampleOffset(nextSample, n, pixelSeed);
             Ray ray = generateCameraRay(vec2(pixel) + offset, size, params.eye, params.forward,
-                                        params.right, params.up);
-            stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u, vec2(0.0, pixelSpread));
+                                        params.right, params.up, params.projection);
+            stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u, pixelCone);
             rayCount.x += 1u;
             ++nextSample;
         }

@@ -652,7 +652,7 @@ std::vector<BadCase> lightAndCameraCases() {
          "t.xml:2: <camera> is missing <position>"},
         {"UnknownInCamera", cameraWith("<lens>50</lens>"),
          "t.xml:5: unknown element <lens> in <camera>; expected one of: position, window_position, up, fov, "
-         "window_height, width, height"},
+         "window_height, width, height, projection"},
         {"CameraAtWindow", withCamera("<position x=\"1\" y=\"1\" z=\"1\"/><window_position x=\"1\" y=\"1\" z=\"1\"/>"),
          "t.xml:2: camera <position> and <window_position> coincide"},
         {"UpParallel", cameraWith("<up x=\"0\" y=\"0\" z=\"-3\"/>"),

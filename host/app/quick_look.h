@@ -8,6 +8,7 @@
 #include "scene/scene.h"
 
 #include <filesystem>
+#include <string>
 
 namespace whitted {
 
@@ -25,7 +26,12 @@ std::filesystem::path quickLookScenePath(const std::filesystem::path& model);
 // A model that cannot be used throws SceneError(model, 0, reason).
 Scene quickLookScene(const std::filesystem::path& model);
 
-// loadScene for a scene file, quickLookScene for anything else.
-Scene loadSceneOrModel(const std::filesystem::path& path);
+// loadScene for a scene file; a glTF file, or an OBJ file with MTL
+// materials, as authored (scene/authored_scene.h) with the quick look's
+// camera only when the file has none and its lights and floor only when it
+// has no lights; quickLookScene for any other model. `camera` is
+// --camera INDEX|NAME (empty: the file's first camera); a choice that
+// names no camera throws SceneError.
+Scene loadSceneOrModel(const std::filesystem::path& path, const std::string& camera = "");
 
 }  // namespace whitted

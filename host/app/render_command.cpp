@@ -39,6 +39,8 @@ struct RenderCommandOptions {
     std::string device;
     bool validation = false;
     bool quiet = false;
+    std::string camera;    // --camera INDEX|NAME
+    double exposure = 0;   // --exposure EV
 };
 
 // Refuses an output that can't be written before any work is done: its
@@ -92,7 +94,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
     Scene scene;
     auto loadStart = std::chrono::steady_clock::now();
     try {
-        scene = loadSceneOrModel(options.scene);  // a model file: a quick look
+        scene = loadSceneOrModel(options.scene, options.camera);  // a model file: authored or a quick look
     } catch (const SceneError& e) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
@@ -153,7 +155,8 @@ int runRenderCommand(const RenderCommandOptions& options) {
     std::vector<std::filesystem::path> files;
     std::filesystem::path shown;
     auto renderInto = [&](const std::filesystem::path& mainImage) {
-        ImageFileSink sink(mainImage, aovs, options.tonemap, renderer->layout(), settings.samplesPerPixel);
+        ImageFileSink sink(mainImage, aovs, options.tonemap, renderer->layout(), settings.samplesPerPixel,
+                           options.exposure);
         ProgressBar bar("rendering", !options.quiet);
         result = renderOnDevices(shares, sink, [&](double f) { bar.update(f); });
         bar.finish();
@@ -307,6 +310,12 @@ Command addRenderCommand(CLI::App& app) {
                     "how rays find the scene: bvh (our BVH), rayquery (the device's acceleration structures, "
                     "VK_KHR_ray_query), auto (ray queries on a GPU that has them, else bvh)")
         ->check(CLI::IsMember({"auto", "bvh", "rayquery"}))->capture_default_str();
+    cmd->add_option("--camera", render.camera,
+                    "the file's camera to render through: its index in node order (from 0) or its name "
+                    "[the first]");
+    cmd->add_option("--exposure", render.exposure,
+                    "scale the image and the colour auxiliary images by 2^EV before encoding (EXR too)")
+        ->check(finiteNumber())->check(CLI::Range(-64.0, 64.0))->capture_default_str();
     cmd->add_flag("--validate", render.validation, "enable the Khronos validation layer; fail on any message");
     cmd->add_flag("-q,--quiet", render.quiet, "no progress or summary");
     return {cmd, [args] { return args->run(); }};

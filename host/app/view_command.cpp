@@ -23,7 +23,7 @@ int runViewCommand(const ViewOptions& given) {
     if (!isSceneFile(options.scene)) options.sceneOut = quickLookScenePath(options.scene);
     Scene scene;
     try {
-        scene = loadSceneOrModel(options.scene);
+        scene = loadSceneOrModel(options.scene, options.camera);
     } catch (const SceneError& e) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
@@ -84,6 +84,11 @@ Command addViewCommand(CLI::App& app) {
     cmd->add_option("--frame-ms", view->targetFrameMs, "target milliseconds per frame")
         ->check(CLI::Range(5.0, 1000.0))->capture_default_str();
     cmd->add_option("--device", view->device, "Vulkan device index or name substring [best available]");
+    cmd->add_option("--camera", view->camera,
+                    "the file's camera to start from: its index in node order (from 0) or its name [the first]");
+    cmd->add_option("--exposure", view->exposure,
+                    "scale the colour images shown and saved by 2^EV before encoding")
+        ->check(CLI::Range(-64.0, 64.0))->capture_default_str();
     cmd->add_flag("--validate", view->validation, "enable the Khronos validation layer; fail on any message");
     return {cmd, [view] {
                 ViewOptions options = *view;

@@ -110,6 +110,12 @@ MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials w
     }
 
     MeshFileData data;
+    if (withMaterials == MeshFileMaterials::Names)
+        for (unsigned m = 0; m < scene->mNumMaterials; ++m) {
+            const aiString name = scene->mMaterials[m]->GetName();
+            data.materialNames.push_back(name == aiString(AI_DEFAULT_MATERIAL_NAME) ? "" : name.C_Str());
+            data.materials.emplace_back();
+        }
     if (withMaterials == MeshFileMaterials::Read)
         for (unsigned m = 0; m < scene->mNumMaterials; ++m) {
             const aiMaterial& material = *scene->mMaterials[m];

@@ -52,6 +52,9 @@ struct MeshFileData {
     // index into them.
     std::vector<MeshFileMaterial> materials;
     std::vector<uint32_t> triangleMaterials;
+    // With MeshFileMaterials::Names: each material's name (empty for the
+    // one Assimp makes up for triangles without a material).
+    std::vector<std::string> materialNames;
     // With tangents asked for: each triangle's unit vertex tangents
     // (Assimp's aiProcess_CalcTangentSpace, along +u), or empty when the
     // file has no normals and UVs to compute them from; a triangle whose
@@ -59,7 +62,10 @@ struct MeshFileData {
     std::vector<std::array<glm::dvec3, 3>> tangents;
 };
 
-enum class MeshFileMaterials { Ignore, Read };
+// Names: only each material's name (materialNames) and the triangles'
+// indices, no colours or textures: for a file whose materials are read by
+// whitted itself (OBJ/MTL, io/mtl_file.h).
+enum class MeshFileMaterials { Ignore, Read, Names };
 
 // Reads every triangle of `path`; points and lines are dropped, polygons are
 // triangulated. Throws MeshFileError when the file does not exist, has an

@@ -122,8 +122,8 @@ struct ImageFileSink::File {
 };
 
 ImageFileSink::ImageFileSink(const std::filesystem::path& mainImage, const std::vector<std::string>& aovs,
-                             Tonemap tonemap, const ImageLayout& layout, int maxSamples)
-    : layout_(layout), maxSamples_(maxSamples) {
+                             Tonemap tonemap, const ImageLayout& layout, int maxSamples, double exposure)
+    : layout_(layout), maxSamples_(maxSamples), colourScale_(float(std::exp2(exposure))) {
     const PixelRegion& r = layout.region;
     ImageWindow window{layout.fullWidth, layout.fullHeight, r.x0, r.y0};
     std::filesystem::path folder = mainImage.parent_path().empty() ? "." : mainImage.parent_path();
@@ -165,7 +165,7 @@ void ImageFileSink::writeBand(const BandView& band) {
         switch (spec.kind) {
             case AovKind::Color:
                 for (size_t i = 0; i < n; ++i)
-                    for (int c = 0; c < 3; ++c) v[i * 3 + c] = layer[i * 4 + c];
+                    for (int c = 0; c < 3; ++c) v[i * 3 + c] = layer[i * 4 + c] * colourScale_;
                 break;
             case AovKind::Scalar:
                 for (size_t i = 0; i < n; ++i) v[i] = layer[i * 4 + spec.channel] * (file->isFloat ? 1.0f : spec.pngScale);
@@ -300,7 +300,8 @@ std::filesystem::path aovPath(const std::filesystem::path& mainImage, const std:
 }
 
 std::vector<std::filesystem::path> writeRenderImages(const RenderResult& result, const std::filesystem::path& mainImage,
-                                                     const std::vector<std::string>& aovs, Tonemap tonemap) {
+                                                     const std::vector<std::string>& aovs, Tonemap tonemap,
+                                                     double exposure) {
     // The whole result as one band.
     ImageLayout layout = result.layout;
     if (layout.fullWidth == 0) layout = {result.width, result.height, {0, 0, result.width, result.height}, 1};
@@ -314,7 +315,7 @@ std::vector<std::filesystem::path> writeRenderImages(const RenderResult& result,
         std::copy(result.layers[l].begin(), result.layers[l].end(), layers.begin() + l * pixels * 4);
     std::vector<float> counts = result.sampleCounts;
     counts.resize(pixels, float(result.samplesPerPixel));
-    ImageFileSink sink(mainImage, aovs, tonemap, layout, std::max(result.samplesPerPixel, 1));
+    ImageFileSink sink(mainImage, aovs, tonemap, layout, std::max(result.samplesPerPixel, 1), exposure);
     sink.writeBand({.y0 = layout.region.y0, .rows = result.height, .width = result.width, .layers = layers,
                     .sampleCounts = counts});
     return sink.finish();

@@ -50,8 +50,12 @@ std::filesystem::path aovPath(const std::filesystem::path& mainImage, const std:
 // bounded by one band whatever the image size.
 class ImageFileSink final : public BandSink {
 public:
+    // exposure (EV, --exposure): the colour images (the image, ambient ...
+    // transmission and their split parts) are scaled by 2^exposure, in EXR
+    // files as in 8-bit ones, so that the components still add up to the
+    // image in every file; coefficients, ior, depth, normal and samples are not.
     ImageFileSink(const std::filesystem::path& mainImage, const std::vector<std::string>& aovs, Tonemap tonemap,
-                  const ImageLayout& layout, int maxSamples);
+                  const ImageLayout& layout, int maxSamples, double exposure = 0.0);
     ~ImageFileSink() override;
     void writeBand(const BandView& band) override;
     // Completes every file; returns the paths written, main image first.
@@ -62,11 +66,13 @@ private:
     std::vector<std::unique_ptr<File>> files_;
     ImageLayout layout_;
     int maxSamples_;
+    float colourScale_;  // 2^exposure
 };
 
 // Writes the main image and the requested auxiliary images; returns the
 // paths written, main image first.
 std::vector<std::filesystem::path> writeRenderImages(const RenderResult& result, const std::filesystem::path& mainImage,
-                                                     const std::vector<std::string>& aovs, Tonemap tonemap);
+                                                     const std::vector<std::string>& aovs, Tonemap tonemap,
+                                                     double exposure = 0.0);
 
 }  // namespace whitted

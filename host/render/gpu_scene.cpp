@@ -37,6 +37,7 @@ static_assert(sizeof(gpu::BvhNode) == 32 && offsetof(gpu::BvhNode, lo) == 0 &&
 static_assert(sizeof(gpu::CsgNode) == 16 && offsetof(gpu::CsgNode, op) == 0 &&
               offsetof(gpu::CsgNode, leaf) == 4);
 static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, eye) == 0 &&
+              offsetof(gpu::FrameParams, projection) == 12 &&
               offsetof(gpu::FrameParams, forward) == 16 && offsetof(gpu::FrameParams, right) == 32 &&
               offsetof(gpu::FrameParams, up) == 48 && offsetof(gpu::FrameParams, ambientLight) == 64 &&
               offsetof(gpu::FrameParams, width) == 80 && offsetof(gpu::FrameParams, height) == 84 &&
@@ -114,12 +115,15 @@ void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p
     glm::dvec3 forward = glm::normalize(camera.windowCenter - camera.eye);
     glm::dvec3 right = glm::normalize(glm::cross(forward, camera.up));
     glm::dvec3 up = glm::cross(right, forward);
-    double tanHalf = std::tan(glm::radians(camera.verticalFovDegrees) / 2.0);
+    // Orthographic: the window's half extents in the scene, about the eye.
+    bool orthographic = camera.projection == Camera::Projection::Orthographic;
+    double halfHeight = orthographic ? camera.windowHeight / 2.0 : std::tan(glm::radians(camera.verticalFovDegrees) / 2.0);
     double aspect = double(width) / double(height);
     p.eye = glm::vec3(camera.eye);
+    p.projection = orthographic ? gpu::kProjectionOrthographic : gpu::kProjectionPerspective;
     p.forward = glm::vec3(forward);
-    p.right = glm::vec3(right * tanHalf * aspect);
-    p.up = glm::vec3(up * tanHalf);
+    p.right = glm::vec3(right * halfHeight * aspect);
+    p.up = glm::vec3(up * halfHeight);
 }
 
 // items[k] = old items[source[k]] for every k, following the permutation's

@@ -304,6 +304,7 @@ void Renderer::setCamera(const Camera& camera) {
     settings.height = scene_.height;
     gpu::FrameParams fresh = packScene(cameraOnly, settings).params;
     scene_.params.eye = fresh.eye;
+    scene_.params.projection = fresh.projection;
     scene_.params.forward = fresh.forward;
     scene_.params.right = fresh.right;
     scene_.params.up = fresh.up;

@@ -28,11 +28,17 @@ struct TextureRef {
 // Pinhole camera. The image plane ("window") is centred on windowCenter and
 // perpendicular to forward = windowCenter - eye. Image right is
 // cross(forward, up); image up completes the right-handed frame.
+// An orthographic camera's rays are parallel to forward and start on the
+// plane through eye perpendicular to it, over a window windowHeight high
+// (world units; its width from the image's aspect): a glTF camera's 2 ymag.
 struct Camera {
+    enum class Projection { Perspective, Orthographic };
     glm::dvec3 eye{0, 0, 0};
     glm::dvec3 windowCenter{0, 0, -1};
     glm::dvec3 up{0, 1, 0};
-    double verticalFovDegrees = 60.0;
+    double verticalFovDegrees = 60.0;  // perspective
+    Projection projection = Projection::Perspective;
+    double windowHeight = 2.0;  // orthographic
     int width = 640;
     int height = 480;
 };

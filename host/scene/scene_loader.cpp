@@ -122,7 +122,7 @@ private:
 
     Camera readCamera(const XMLElement* e) const {
         ElementReader c(diag_, e,
-                        {{"position"}, {"window_position"}, {"up"}, {"fov"}, {"window_height"}, {"width"}, {"height"}});
+                        {{"position"}, {"window_position"}, {"up"}, {"fov"}, {"window_height"}, {"width"}, {"height"}, {"projection"}});
         Camera camera;
         camera.eye = vector(diag_, c.required("position"));
         camera.windowCenter = vector(diag_, c.required("window_position"));
@@ -146,6 +146,22 @@ private:
         const XMLElement* windowHeight = c.optional("window_height");
         if (fov && windowHeight)
             diag_.fail(laterOf(fov, windowHeight), "<camera> has both <fov> and <window_height>; give one");
+        // An orthographic camera's window is <window_height> high, its rays
+        // parallel to the view (scenes/README.md "Scene files").
+        if (const XMLElement* projection = c.optional("projection")) {
+            std::string name = valueText(diag_, projection);
+            if (name == "orthographic") {
+                camera.projection = Camera::Projection::Orthographic;
+                if (fov) diag_.fail(fov, "an orthographic <camera> has no <fov>; give its <window_height>");
+                if (!windowHeight)
+                    diag_.fail(projection, "an orthographic <camera> needs a <window_height> (the window's height in "
+                                           "scene units)");
+                camera.windowHeight = number(diag_, windowHeight, kPositive);
+                windowHeight = nullptr;
+            } else if (name != "perspective") {
+                diag_.fail(projection, "<projection> must be perspective or orthographic, got " + inQuotes(name));
+            }
+        }
         if (fov) camera.verticalFovDegrees = number(diag_, fov, kFovRange);
         if (windowHeight) {
             double height = number(diag_, windowHeight, kPositive);

@@ -42,7 +42,12 @@ void writeCamera(XmlOut& x, const Camera& c) {
     x.vector("position", c.eye);
     x.vector("window_position", c.windowCenter);
     x.vector("up", c.up);
-    x.value("fov", c.verticalFovDegrees);
+    if (c.projection == Camera::Projection::Orthographic) {
+        x.value("projection", std::string("orthographic"));
+        x.value("window_height", c.windowHeight);
+    } else {
+        x.value("fov", c.verticalFovDegrees);
+    }
     x.value("width", std::to_string(c.width));
     x.value("height", std::to_string(c.height));
     x.close("camera");

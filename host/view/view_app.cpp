@@ -335,7 +335,7 @@ void ViewApp::saveImages() {
     std::vector<std::string> aovs = parseAovList("all", renderer_.settings().aovBounces);
     std::filesystem::path folder = writeHistoryFolder(options_.historyRoot, [&](const std::filesystem::path& staging) {
         std::vector<std::filesystem::path> files =
-            writeRenderImages(result, staging / "image.png", aovs, Tonemap::Clamp);
+            writeRenderImages(result, staging / "image.png", aovs, Tonemap::Clamp, options_.exposure);
         Scene shown = scene_;
         shown.camera = camera_.camera();
         writeSceneFile(shown, staging / "scene.xml");
@@ -435,6 +435,7 @@ ViewOutcome ViewApp::run() {
 
         gpu::DisplayParams display = layers_[layer_].params;
         display.depthMedian = depthScale_;
+        display.exposure = float(options_.exposure);
         presenter_.recordDisplay(display);
         bool captureWindow = std::any_of(pendingShots_.begin(), pendingShots_.end(), [](auto& s) { return s.second; });
         presenter_.recordOverlay(drawData, captureWindow);

@@ -28,6 +28,8 @@ struct ViewOptions {
     std::optional<std::filesystem::path> script;
     std::filesystem::path historyRoot = "renders";
     double targetFrameMs = 40;
+    double exposure = 0;  // EV: the colour images shown and saved are scaled by 2^exposure
+    std::string camera;   // --camera INDEX|NAME of the file's cameras (empty: the first)
 };
 
 // How a window session ended; app/view_command.cpp maps it to an exit status.

@@ -1,0 +1,370 @@
+#include "scene/authored_scene.h"
+
+#include "io/gltf_file.h"
+#include "io/mesh_file.h"
+#include "io/mtl_file.h"
+#include "scene/scene_error.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+
+namespace whitted {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string lowerExtension(const std::filesystem::path& path) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+// Per-triangle tangents along +u (whitted's convention, v up), from the
+// triangle's world vertices and its texture coordinates; zero where the
+// UVs are degenerate.
+std::array<glm::dvec3, 3> tangentsOf(const Triangle& t, const std::array<glm::dvec2, 3>& uv) {
+    glm::dvec3 e1 = t.v1 - t.v0, e2 = t.v2 - t.v0;
+    glm::dvec2 d1 = uv[1] - uv[0], d2 = uv[2] - uv[0];
+    double det = d1.x * d2.y - d2.x * d1.y;
+    glm::dvec3 tangent = std::abs(det) > 1e-20 ? (e1 * d2.y - e2 * d1.y) / det : glm::dvec3(0);
+    double length = glm::length(tangent);
+    tangent = length > 1e-20 && std::isfinite(length) ? tangent / length : glm::dvec3(0);
+    return {tangent, tangent, tangent};
+}
+
+}  // namespace
+
+bool isGltfFile(const std::filesystem::path& path) {
+    std::string ext = lowerExtension(path);
+    return ext == ".gltf" || ext == ".glb";
+}
+
+std::vector<std::filesystem::path> objMaterialLibraries(const std::filesystem::path& path) {
+    std::vector<std::filesystem::path> libraries;
+    if (lowerExtension(path) != ".obj") return libraries;
+    std::ifstream in(path);
+    std::string line;
+    while (std::getline(in, line)) {
+        size_t at = line.find_first_not_of(" \t");
+        if (at == std::string::npos || line.compare(at, 7, "mtllib ") != 0) continue;
+        std::string name = line.substr(at + 7);
+        while (!name.empty() && std::isspace((unsigned char)name.back())) name.pop_back();
+        while (!name.empty() && std::isspace((unsigned char)name.front())) name.erase(name.begin());
+        if (!name.empty()) libraries.push_back(mtlPath(path.parent_path(), name));
+    }
+    return libraries;
+}
+
+// ---- glTF ----
+
+Material materialFromGltf(const GltfMaterial& g) {
+    const glm::dvec3 b(g.baseColorFactor);
+    const double m = g.metallicFactor, r = g.roughnessFactor, t = g.transmissionFactor, eta = g.ior;
+    const double f0 = std::pow((eta - 1) / (eta + 1), 2);
+    Material out;
+    out.ambient = 0;  // a glTF scene has no ambient light
+    out.diffuseColor = b;
+    out.diffuseTexture = {"", g.baseColorTexture};
+    out.diffuse = (1 - m) * (1 - t);
+    // Reflection and highlight: Schlick's F0 for dielectrics, b for metals,
+    // fading with roughness (Whitted tracing cannot blur a reflection).
+    double specular = glm::mix(f0, 1.0, m);
+    out.specularColor = glm::mix(glm::dvec3(1), b, m);
+    out.reflection = specular * (1 - r) * (1 - r);
+    out.specular = specular * (1 - r);
+    double alpha = r * r;
+    out.shininess = alpha > 0 ? std::clamp(2 / (alpha * alpha) - 2, 1.0, 1e4) : 1e4;
+    // Glass.
+    out.transmission = t * (1 - m);
+    if (out.transmission > 0) {
+        bool thin = g.hasVolume && g.thicknessFactor == 0;
+        out.ior = thin ? 1.0 : eta;
+        out.fresnel = r < 1;
+        out.transmissionColor = b;
+        if (g.hasVolume && !thin && std::isfinite(g.attenuationDistance))
+            for (int c = 0; c < 3; ++c)
+                out.absorption[c] = -std::log(std::max(g.attenuationColor[c], 1e-9)) / g.attenuationDistance;
+    }
+    out.emission = g.emissiveFactor * g.emissiveStrength;
+    if (g.normalTexture) {
+        out.normalMap = {"", g.normalTexture};
+        out.normalStrength = g.normalScale;
+    }
+    return out;
+}
+
+Light lightFromGltf(const GltfLight& g, const glm::dmat4& world) {
+    Light light;
+    light.name = g.name;
+    light.type = g.type == GltfLight::Type::Point  ? Light::Type::Point
+                 : g.type == GltfLight::Type::Spot ? Light::Type::Spot
+                                                   : Light::Type::Directional;
+    light.color = g.color;
+    light.intensity = g.intensity / kPi;  // so that a Lambertian albedo rho gives rho / pi * E
+    light.falloff = g.type == GltfLight::Type::Directional ? Light::Falloff::None : Light::Falloff::InverseSquare;
+    light.position = light.type == Light::Type::Directional ? glm::dvec3(0) : glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
+    light.direction = glm::normalize(glm::dvec3(world * glm::dvec4(0, 0, -1, 0)));
+    light.innerAngleDegrees = glm::degrees(g.innerConeAngle);
+    light.outerAngleDegrees = glm::degrees(g.outerConeAngle);
+    return light;
+}
+
+AuthoredScene loadGltfScene(const std::filesystem::path& path) {
+    GltfFile file;
+    try {
+        file = readGltfFile(path);
+    } catch (const GltfFileError& e) {
+        std::string text = e.what(), prefix = path.string() + ": ";
+        throw SceneError(path.string(), 0, text.rfind(prefix, 0) == 0 ? text.substr(prefix.size()) : text);
+    }
+    AuthoredScene out;
+    Scene& scene = out.scene;
+    scene.ambientLight = glm::dvec3(0);
+    scene.warnings = file.warnings;
+    std::vector<Material> materials;
+    for (const GltfMaterial& m : file.materials) materials.push_back(materialFromGltf(m));
+    const std::string where = path.string();
+
+    std::function<void(int, const glm::dmat4&)> visit = [&](int index, const glm::dmat4& parent) {
+        const GltfNode& node = file.nodes[size_t(index)];
+        const glm::dmat4 world = parent * node.local;
+        const std::string nodeName = node.name.empty() ? "node " + std::to_string(index) : node.name;
+        for (int c = 0; c < 4; ++c)
+            for (int k = 0; k < 4; ++k)
+                if (!std::isfinite(world[c][k]))
+                    throw SceneError(where, 0, "node \"" + nodeName + "\": its transform is not finite");
+        const glm::dmat3 linear(world);
+        if (node.camera >= 0) {
+            const GltfCamera& g = file.cameras[size_t(node.camera)];
+            AuthoredCamera c;
+            c.name = g.name.empty() ? nodeName : g.name;
+            c.nodeName = node.name;
+            Camera& camera = c.camera;
+            camera.eye = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
+            glm::dvec3 forward = linear * glm::dvec3(0, 0, -1), up = linear * glm::dvec3(0, 1, 0);
+            if (!(glm::length(forward) > 1e-12) || !(glm::length(glm::cross(forward, up)) > 1e-12))
+                throw SceneError(where, 0, "node \"" + nodeName + "\": its camera's transform is degenerate");
+            camera.windowCenter = camera.eye + glm::normalize(forward);
+            camera.up = glm::normalize(up);
+            camera.width = 640;
+            double aspect = 0;
+            if (g.orthographic) {
+                camera.projection = Camera::Projection::Orthographic;
+                camera.windowHeight = 2 * g.ymag;
+                aspect = g.xmag / g.ymag;
+            } else {
+                camera.verticalFovDegrees = glm::degrees(g.yfov);
+                aspect = g.aspectRatio;
+            }
+            camera.height = aspect > 0 ? std::clamp(int(std::lround(640 / aspect)), 1, 16384) : 480;
+            out.cameras.push_back(std::move(c));
+        }
+        if (node.light >= 0) {
+            Light light = lightFromGltf(file.lights[size_t(node.light)], world);
+            if (light.name.empty()) light.name = nodeName;
+            if (!std::isfinite(glm::length(light.direction)))
+                throw SceneError(where, 0, "node \"" + nodeName + "\": its light's direction is degenerate");
+            scene.lights.push_back(light);
+        }
+        if (node.mesh >= 0) {
+            const GltfMesh& mesh = file.meshes[size_t(node.mesh)];
+            const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
+            const bool flip = glm::determinant(linear) < 0;  // mirrored: the winding turns over
+            for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+                const GltfPrimitive& prim = mesh.primitives[p];
+                if (prim.indices.empty()) continue;
+                Object object;
+                object.name = nodeName + (mesh.primitives.size() > 1 ? " primitive " + std::to_string(p) : "");
+                if (prim.material >= 0) {
+                    object.material = materials[size_t(prim.material)];
+                } else {  // no material: white Lambert (the specification's default, a rough metal, is black here)
+                    object.material.ambient = 0;
+                }
+                Mesh out;
+                bool textured = object.material.diffuseTexture || object.material.normalMap;
+                if (textured && prim.uvs.empty()) {
+                    scene.warnings.push_back(where + ": node \"" + nodeName +
+                                             "\": its textures are not used: the primitive has no TEXCOORD_0");
+                    object.material.diffuseTexture = {};
+                    object.material.normalMap = {};
+                    textured = false;
+                }
+                for (size_t i = 0; i + 2 < prim.indices.size(); i += 3) {
+                    std::array<uint32_t, 3> v{prim.indices[i], prim.indices[i + 1], prim.indices[i + 2]};
+                    if (flip) std::swap(v[1], v[2]);
+                    Triangle t;
+                    glm::dvec3* corners[3] = {&t.v0, &t.v1, &t.v2};
+                    for (int k = 0; k < 3; ++k) *corners[k] = glm::dvec3(world * glm::dvec4(prim.positions[v[size_t(k)]], 1));
+                    out.triangles.push_back(t);
+                    if (!prim.normals.empty()) {
+                        std::array<glm::dvec3, 3> n;
+                        glm::dvec3 flat = glm::cross(t.v1 - t.v0, t.v2 - t.v0);
+                        flat = glm::length(flat) > 0 ? glm::normalize(flat) : glm::dvec3(0, 0, 1);
+                        for (int k = 0; k < 3; ++k) {
+                            glm::dvec3 x = normalMatrix * prim.normals[v[size_t(k)]];
+                            n[size_t(k)] = glm::length(x) > 1e-12 && std::isfinite(glm::length(x)) ? glm::normalize(x) : flat;
+                        }
+                        out.normals.push_back(n);
+                    }
+                    if (textured) {
+                        std::array<glm::dvec2, 3> uv;
+                        for (int k = 0; k < 3; ++k) {
+                            glm::dvec2 u = prim.uvs[v[size_t(k)]];
+                            uv[size_t(k)] = glm::dvec2(u.x, 1.0 - u.y);  // glTF's v runs down the image
+                        }
+                        out.uvs.push_back(uv);
+                        if (object.material.normalMap) out.tangents.push_back(tangentsOf(t, uv));
+                    }
+                }
+                object.shape = std::move(out);
+                scene.objects.push_back(std::move(object));
+            }
+        }
+        for (int child : node.children) visit(child, world);
+    };
+    for (int root : file.sceneRoots) visit(root, glm::dmat4(1.0));
+    if (scene.objects.empty()) throw SceneError(where, 0, "has no triangles in its scene");
+    return out;
+}
+
+// ---- OBJ / MTL ----
+
+Material materialFromMtl(const MtlMaterial& m, const std::string& file, std::vector<std::string>& warnings) {
+    Material out;
+    int illum = m.illum < 0 ? 2 : m.illum;
+    if (illum == 10) {
+        warnings.push_back(file + ":" + std::to_string(m.illumLine) +
+                           ": illum 10 (casts shadows onto invisible surfaces) is not supported; rendered as illum 2");
+        illum = 2;
+    }
+    const glm::dvec3 kd = m.Kd.value_or(glm::dvec3(1)), ks = m.Ks.value_or(glm::dvec3(0));
+    const glm::dvec3 tf = m.Tf.value_or(glm::dvec3(1));
+    const double ni = m.Ni.value_or(1.5);
+    out.diffuseColor = kd;
+    out.diffuseTexture = {"", m.diffuseTexture};
+    if (m.normalMap) out.normalMap = {"", m.normalMap};
+    // Ambient: Ka as ka * ambient colour (ka its largest channel); none: the
+    // quick look's 0.1 of the diffuse colour.
+    if (m.Ka) {
+        out.ambient = std::max({m.Ka->r, m.Ka->g, m.Ka->b});
+        if (out.ambient > 0) out.ambientColor = *m.Ka / out.ambient;
+    } else {
+        out.ambient = 0.1;
+    }
+    out.diffuse = 1;
+    out.specular = 0;
+    out.specularColor = ks;
+    out.shininess = m.Ns.value_or(32.0);
+    if (m.Ke) out.emission = *m.Ke;
+    if (illum == 0) {  // constant colour Kd
+        out.ambient = 0;
+        out.ambientColor.reset();
+        out.diffuse = 0;
+        out.emission = kd;
+        return out;
+    }
+    if (illum >= 2) out.specular = 1;  // the highlight Ks, Ns
+    const bool mirror = illum >= 3;    // every model from 3 on reflects Ks
+    const bool glass = illum == 4 || illum == 6 || illum == 7 || illum == 9;
+    if (mirror) out.reflection = 1;
+    if (illum == 5 || illum == 7) {  // Fresnel: F0 of Ni
+        out.fresnel = true;
+        out.reflection = std::pow((ni - 1) / (ni + 1), 2);
+    }
+    if (glass) {
+        out.transmission = 1;
+        out.ior = illum == 6 || illum == 7 ? ni : 1.0;
+        out.transmissionColor = (glm::dvec3(1) - glm::min(ks, glm::dvec3(1))) * tf;
+    } else if (m.d && *m.d < 1) {  // dissolve: see-through without bending
+        double d = *m.d;
+        out.transmission = 1 - d;
+        out.ior = 1;
+        out.transmissionColor = tf;
+        out.ambient *= d;
+        out.diffuse *= d;
+        out.specular *= d;
+    }
+    return out;
+}
+
+AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
+    AuthoredScene out;
+    Scene& scene = out.scene;
+    const std::string where = path.string();
+    std::map<std::string, Material> byName;
+    bool normalMaps = false;
+    for (const std::filesystem::path& library : objMaterialLibraries(path)) {
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(library, ec)) {
+            scene.warnings.push_back(where + ": material library " + library.filename().string() +
+                                     " does not exist; its materials are white");
+            continue;
+        }
+        MtlFile mtl;
+        try {
+            mtl = readMtlFile(library);
+        } catch (const MtlFileError& e) {
+            std::string text = e.what();
+            size_t colon = text.find(':', library.string().size());
+            int line = colon != std::string::npos ? std::atoi(text.c_str() + colon + 1) : 0;
+            size_t message = text.find(": ", colon == std::string::npos ? 0 : colon);
+            throw SceneError(library.string(), line, message == std::string::npos ? text : text.substr(message + 2));
+        }
+        scene.warnings.insert(scene.warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
+        for (const MtlMaterial& m : mtl.materials) {
+            byName[m.name] = materialFromMtl(m, library.string(), scene.warnings);
+            normalMaps = normalMaps || m.normalMap;
+        }
+    }
+    MeshFileData data;
+    try {
+        data = readMeshFile(path, MeshFileMaterials::Names, normalMaps);
+    } catch (const MeshFileError& e) {
+        throw SceneError(where, 0, std::string("mesh file \"") + path.filename().string() + "\" " + e.what());
+    }
+    // One object per material, in the file's material order.
+    std::vector<Object> objects(data.materialNames.size());
+    for (size_t i = 0; i < objects.size(); ++i) {
+        objects[i].name = data.materialNames[i];
+        auto it = byName.find(data.materialNames[i]);
+        if (it != byName.end()) objects[i].material = it->second;
+        else objects[i].material.ambient = 0.1;
+        objects[i].shape = Mesh{};
+    }
+    for (size_t t = 0; t < data.triangles.size(); ++t) {
+        Object& o = objects[data.triangleMaterials[t]];
+        Mesh& mesh = std::get<Mesh>(o.shape);
+        const auto& v = data.triangles[t];
+        mesh.triangles.push_back({v[0], v[1], v[2]});
+        if (!data.normals.empty()) mesh.normals.push_back(data.normals[t]);
+        bool textured = o.material.diffuseTexture || o.material.normalMap;
+        if (textured && !data.uvs.empty()) {
+            mesh.uvs.push_back(data.uvs[t]);
+            if (o.material.normalMap)
+                mesh.tangents.push_back(data.tangents.empty() ? std::array<glm::dvec3, 3>{} : data.tangents[t]);
+        }
+    }
+    for (Object& o : objects)
+        if (!std::get<Mesh>(o.shape).triangles.empty()) scene.objects.push_back(std::move(o));
+    return out;
+}
+
+const AuthoredCamera& chooseCamera(const std::vector<AuthoredCamera>& cameras, const std::string& choice,
+                                   const std::string& file) {
+    if (cameras.empty()) throw SceneError(file, 0, "--camera " + choice + ": the file has no cameras");
+    if (choice.empty()) return cameras.front();
+    bool digits = std::all_of(choice.begin(), choice.end(), [](unsigned char c) { return std::isdigit(c); });
+    if (digits && choice.size() < 9 && size_t(std::stoi(choice)) < cameras.size()) return cameras[size_t(std::stoi(choice))];
+    for (const AuthoredCamera& c : cameras)
+        if (c.name == choice || (!c.nodeName.empty() && c.nodeName == choice)) return c;
+    std::string names;
+    for (size_t i = 0; i < cameras.size(); ++i)
+        names += (i ? ", " : "") + std::to_string(i) + " \"" + cameras[i].name + "\"";
+    throw SceneError(file, 0, "--camera " + choice + " names no camera; the file has " + names);
+}
+
+}  // namespace whitted

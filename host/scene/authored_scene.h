@@ -1,0 +1,59 @@
+// Model files as their authors set them up (scenes/README.md "Authored
+// scenes"): a glTF 2.0 file's node tree, cameras, KHR_lights_punctual
+// lights and materials, and an OBJ file's own MTL materials, mapped into
+// the scene model by the formulas documented there. What is not authored
+// (a camera, lights and a floor) is app/quick_look's to add.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace whitted {
+
+struct GltfMaterial;  // io/gltf_file.h
+struct GltfLight;
+struct MtlMaterial;   // io/mtl_file.h
+
+// A camera of the file, placed by its node: cameras in node order
+// (depth first from the scene's roots), named by the camera's name, else
+// its node's.
+struct AuthoredCamera {
+    std::string name;
+    std::string nodeName;
+    Camera camera;
+};
+
+struct AuthoredScene {
+    Scene scene;  // the file's objects and lights; ambient light 0 for glTF
+    std::vector<AuthoredCamera> cameras;
+};
+
+// .gltf or .glb (any case).
+bool isGltfFile(const std::filesystem::path& path);
+
+// The MTL libraries an OBJ file names (mtllib), beside it; empty for any
+// other file or an OBJ without one.
+std::vector<std::filesystem::path> objMaterialLibraries(const std::filesystem::path& path);
+
+// Both throw SceneError: for glTF "FILE: JSON-PATH: reason", for MTL
+// "FILE:LINE: reason".
+AuthoredScene loadGltfScene(const std::filesystem::path& path);
+AuthoredScene loadObjMtlScene(const std::filesystem::path& path);
+
+// The mappings themselves (scenes/README.md gives the formulas).
+Material materialFromGltf(const GltfMaterial& material);
+Material materialFromMtl(const MtlMaterial& material, const std::string& file, std::vector<std::string>& warnings);
+// `world` places the light: its position the origin's image, its
+// direction that of -Z.
+Light lightFromGltf(const GltfLight& light, const glm::dmat4& world);
+
+// --camera INDEX|NAME: INDEX counts the cameras in node order from 0, NAME
+// is a camera's or its node's name. Throws SceneError(file, 0, ...) when
+// no camera answers.
+const AuthoredCamera& chooseCamera(const std::vector<AuthoredCamera>& cameras, const std::string& choice,
+                                   const std::string& file);
+
+}  // namespace whitted
