@@ -8,7 +8,9 @@
 #include "scene.glsl"
 #include "material.glsl"
 #include "shapes/primitive.glsl"
+#ifndef WHITTED_NO_CSG  // the build for scenes without csg objects (host/render/device_policy.cpp)
 #include "shapes/csg.glsl"
+#endif
 #include "texture.glsl"
 
 // Whether any material is transparent (kt > 0): a specialization constant
@@ -53,6 +55,7 @@ bool intersectPrimitiveAt(uint i, const uint mask, Ray ray, float tMin, inout fl
     return false;
 }
 
+#ifndef WHITTED_NO_CSG
 // A csg object (shaders/shapes/csg.glsl) for either query. A closest hit
 // reports the leaf primitive struck. A csg object is not convex, so a
 // shadow ray walks every crossing of its surface in (0, tMax) and filters
@@ -86,6 +89,7 @@ void testCsg(uint i, Ray ray, float tMax, const bool shadow, inout Hit hit, inou
         tFrom = t;
     }
 }
+#endif
 
 // Tests primitive i for either query. Closest hit (shadow = false): updates
 // hit. Shadow ray: filters transmittance by a crossing of a transparent
@@ -95,10 +99,12 @@ void testCsg(uint i, Ray ray, float tMax, const bool shadow, inout Hit hit, inou
 // (tFrom). Returns whether the next primitive is due.
 bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shadow, inout Hit hit,
                    inout vec3 transmittance, inout vec3 opticalDepth, inout float tFrom, inout bool blocked) {
+#ifndef WHITTED_NO_CSG
     if ((mask & (1u << kShapeCsg)) != 0u && (bitCount(mask) == 1 || primitives[i].shape == kShapeCsg)) {
         testCsg(i, ray, tMax, shadow, hit, transmittance, opticalDepth, blocked);
         return true;
     }
+#endif
     vec3 n;
     if (!shadow) {
         if (intersectPrimitiveAt(i, mask, ray, 0.0, hit.t, n)) {

@@ -70,9 +70,11 @@ vec3 textureColor(uint slot, vec2 uv, float lod) {
 // diffuse texture, at mip level 0 (a shadow ray carries no cone).
 vec3 crossingColour(uint i, uint k, vec3 p, vec3 n) {
     vec3 cd = pigment(materials[k].diffuse, materials[k].checkerColor, materials[k].checkerSize, materials[k].checkerOrigin, p);
+#ifndef WHITTED_NO_TEXTURES  // the build for scenes without textures (host/render/device_policy.cpp)
     uint slot = materials[k].diffuseTexture;
     if (slot != kNoTexture)
         cd *= textureColor(slot, surfaceUv(primitives[i], i, n, p, materials[k].textureScale).uv, 0.0);
+#endif
     return cd;
 }
 

@@ -143,6 +143,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // normal map; a mapped normal is kept facing the viewer as
         // shadingNormal() keeps an interpolated one.
         float coneWidth = pending.cone.x + pending.cone.y * hit.t;
+#ifndef WHITTED_NO_TEXTURES  // the build for scenes without textures (host/render/device_policy.cpp)
         uvec2 slots = uvec2(m.diffuseTexture, m.normalMap);
         if (slots.x != kNoTexture || slots.y != kNoTexture) {
             SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, m.textureScale);
@@ -155,6 +156,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
                 if (facing < 1e-3) ns = normalize(ns + (1e-3 - facing) * -ray.dir);
             }
         }
+#endif
 
         LocalShading local = shadeLocal(m, pOutside, ns, n, -ray.dir);
         rayCount.y += local.shadowRays;

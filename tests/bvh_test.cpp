@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstring>
 #include <random>
 
 namespace whitted::test {
@@ -174,6 +175,40 @@ TEST_P(SceneReads, DescriptorMatchesAddress) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, SceneReads, ::testing::Values("room", "several_mirrors", "n_objects"),
+                         [](const auto& info) { return info.param; });
+
+// The tracer built for the scene (without the code of csg objects and
+// textures where the scene has none, RenderSettings::fittedShader) renders
+// every shipped scene as the full build does: every output layer, value for
+// value, and the same ray counts, at 1 sample and with adaptive sampling.
+class FittedShader : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(FittedShader, MatchesFullShader) {
+    Scene scene = loadScene(sourceDir() / "scenes" / (GetParam() + ".xml"));
+    for (AntiAliasing aa : {AntiAliasing::Uniform, AntiAliasing::Adaptive}) {
+        RenderSettings s{.width = 96, .height = 72, .samplesPerPixel = aa == AntiAliasing::Uniform ? 1 : 16,
+                         .maxDepth = 6, .auxiliary = true};
+        s.antiAliasing = aa;
+        s.fittedShader = true;
+        RenderResult fitted = renderScene(scene, s);
+        s.fittedShader = false;
+        RenderResult full = renderScene(scene, s);
+        ASSERT_EQ(fitted.layers.size(), full.layers.size());
+        ASSERT_FALSE(full.layers.empty());
+        for (size_t layer = 0; layer < full.layers.size(); ++layer)
+            EXPECT_TRUE(fitted.layers[layer].size() == full.layers[layer].size() &&
+                        std::memcmp(fitted.layers[layer].data(), full.layers[layer].data(),
+                                    full.layers[layer].size() * sizeof(float)) == 0)
+                << "layer " << layer << " differs (bit for bit)";
+        EXPECT_EQ(fitted.rays.primary, full.rays.primary);
+        EXPECT_EQ(fitted.rays.shadow, full.rays.shadow);
+        EXPECT_EQ(fitted.rays.secondary, full.rays.secondary);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, FittedShader,
+                         ::testing::Values("room", "nested_spheres", "one_mirror", "several_mirrors", "n_objects",
+                                           "n_diffuse_objects", "three_diffuse_spheres", "showcase"),
                          [](const auto& info) { return info.param; });
 
 }  // namespace

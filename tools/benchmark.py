@@ -2,7 +2,7 @@
 """whitted benchmark: renders a fixed set of scenes with whitted and with POV-Ray 3.7, in one run.
 
   tools/benchmark.py [--quick] [--only NAME[,NAME..]] [--skip-povray] [--sizes small,full]
-                     [--full-scenes NAME[,NAME..]|all] [--skip-fixed] [--skip-equal-quality]
+                     [--full-scenes NAME[,NAME..]|all] [--skip-fixed] [--skip-equal-quality] [--skip-embree]
                      [--driver-files ICD.json|default [--label NAME]]... [--fresh-references]
                      [--build DIR] [--out DIR]
 
@@ -16,6 +16,12 @@ resolution, samples per pixel, maximum depth and thread count, with the ratio. S
 per pixel, full = 1920x1080 at 16 (by default for the room only: --full-scenes). whitted runs `--aa uniform --spp N`;
 POV-Ray `povray -D +WT2 +A0.0 +AM1 +R4` for 16 samples per pixel (method 1, non-adaptive supersampling, threshold 0:
 every pixel whose corner samples differ at all takes a 4x4 grid) and `-A` for 1.
+
+Embree anchor (the limit of this CPU): at every fixed-spp scene and size, build/whitted_embree_anchor
+(tools/embree_anchor.cpp, built when Debian's libembree-dev is installed) traces the same camera rays and shadow
+rays with Embree 3's rtcIntersect/rtcOccluded packets of 4, 8 and 16 on every core, the fastest reported; the JSON
+holds whitted's rays per second as a fraction of Embree's (whitted_over_embree), from the same run. It traces
+triangles, meshes, boxes, spheres and planes; a scene with cylinders or csg objects (the room) gets none.
 
 Equal quality ("time to a clean image"). For every scene at its equal-quality size (room 1920x1080, the others
 640x480), each renderer's own 64-sample uniform image is its reference: whitted `--aa uniform --spp 64`, POV-Ray
@@ -74,6 +80,7 @@ def parse_args():
     parser.add_argument("--skip-fixed", action="store_true", help="no fixed-spp part")
     parser.add_argument("--skip-equal-quality", action="store_true", help="no time-to-a-clean-image part")
     parser.add_argument("--skip-povray", action="store_true", help="do not run POV-Ray")
+    parser.add_argument("--skip-embree", action="store_true", help="do not run the Embree anchor")
     parser.add_argument("--driver-files", action="append", default=[], help="Vulkan ICD JSON whitted runs on "
                         "(VK_DRIVER_FILES), or 'default'; repeatable [default]")
     parser.add_argument("--label", action="append", default=[], help="a name for each --driver-files, in order "
@@ -138,7 +145,14 @@ def bench_from(args, plan, drivers, out):
         fail("povray not found: run tools/install_deps.sh, or pass --skip-povray", 1)
     work = os.path.join(out, "work")
     os.makedirs(work, exist_ok=True)
-    return Bench(whitted=whitted, exporter=exporter if plan.povray else None, drivers=drivers, work=work)
+    anchor = os.path.join(args.build, "whitted_embree_anchor")
+    if args.skip_embree:
+        anchor = None
+    elif not os.access(anchor, os.X_OK):
+        print(f"benchmark.py: {anchor} not built (needs libembree-dev): no Embree anchor", file=sys.stderr)
+        anchor = None
+    return Bench(whitted=whitted, exporter=exporter if plan.povray else None, drivers=drivers, work=work,
+                 anchor=anchor)
 
 
 def probe_drivers(bench):

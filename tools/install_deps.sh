@@ -9,6 +9,7 @@ packages=(
   glslang-tools spirv-tools
   libglfw3-dev libglm-dev libtinyxml2-dev libopenimageio-dev openimageio-tools
   libgtest-dev libcli11-dev
+  libembree-dev  # the benchmark's limit anchor (tools/embree_anchor.cpp); whitted itself does not link it
   povray xvfb xauth
   assimp-testmodels  # real models for tests (BoxTextured.glb, ClearCoatTest.gltf, quick looks)
   python3-matplotlib

@@ -98,9 +98,20 @@ TracePath resolveTrace(const VulkanContext& ctx, const RenderSettings& settings)
     return device.rayQuery && settings.useBvh && device.type != "cpu" ? TracePath::RayQuery : TracePath::Bvh;
 }
 
-ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, TracePath trace, SceneReads reads) {
+// Whether the scene has csg objects among the primitives the shader tests.
+bool hasCsg(const GpuScene& scene) {
+    size_t listEnd = scene.params.firstListPrimitive + scene.params.listPrimitiveCount;
+    for (size_t i = 0; i < listEnd; ++i)
+        if (scene.primitives[i].shape == gpu::kShapeCsg) return true;
+    return false;
+}
+
+ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, TracePath trace, SceneReads reads,
+                               bool fitted) {
     if (trace == TracePath::RayQuery) return ShaderVariant::RayQuery;
-    return sceneFromStorageBuffers(ctx, scene, reads) ? ShaderVariant::StorageBuffers : ShaderVariant::Addresses;
+    if (sceneFromStorageBuffers(ctx, scene, reads)) return ShaderVariant::StorageBuffers;
+    return fitted && scene.textures.empty() && !hasCsg(scene) ? ShaderVariant::AddressesLean
+                                                               : ShaderVariant::Addresses;
 }
 
 // The shapes in the BVH, any transparency, the shapes outside it (planes).

@@ -59,10 +59,15 @@ enum class ShaderVariant {
     Addresses,       // kWhittedCompSpv: the scene's arrays through their device addresses
     StorageBuffers,  // kWhittedCompStorageBuffersSpv (-DWHITTED_SCENE_STORAGE_BUFFERS): through descriptors
     RayQuery,        // kWhittedCompRayQuerySpv (-DWHITTED_RAY_QUERY): the device's acceleration structures
+    // kWhittedCompLeanSpv (-DWHITTED_NO_CSG -DWHITTED_NO_TEXTURES): Addresses without the code of csg objects
+    // and textures, for a scene with neither; the same image as Addresses, bit for bit.
+    AddressesLean,
 };
 
 // The build a packed scene runs with on this device along `trace` (resolved).
-ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, TracePath trace, SceneReads reads);
+// fitted: a scene without csg objects and textures gets AddressesLean rather than Addresses.
+ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, TracePath trace, SceneReads reads,
+                               bool fitted = true);
 
 // The specialization constants for a packed scene, in the order of
 // gpu::kSpecShapeMask, gpu::kSpecTransparency, gpu::kSpecListShapeMask.

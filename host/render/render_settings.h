@@ -69,6 +69,10 @@ struct RenderSettings {
     bool textureLodZero = false;
     // Auto: as suits the device. Tests force each way and compare the images.
     SceneReads sceneReads = SceneReads::Auto;
+    // A build of the tracer without the code the scene does not use (csg
+    // objects, textures: host/render/device_policy.h); false: the full one.
+    // Tests compare the two.
+    bool fittedShader = true;
 };
 
 }  // namespace whitted

@@ -5,6 +5,7 @@
 #include "whitted_comp.h"  // kWhittedCompSpv, generated from shaders/whitted.comp
 #include "whitted_comp_ray_query.h"  // kWhittedCompRayQuerySpv: the same with -DWHITTED_RAY_QUERY
 #include "whitted_comp_storage_buffers.h"  // kWhittedCompStorageBuffersSpv: the same with -DWHITTED_SCENE_STORAGE_BUFFERS
+#include "whitted_comp_lean.h"  // kWhittedCompLeanSpv: the same with -DWHITTED_NO_CSG -DWHITTED_NO_TEXTURES
 
 #include <algorithm>
 #include <chrono>
@@ -51,6 +52,7 @@ std::span<const uint32_t> embeddedTracer(ShaderVariant variant) {
     switch (variant) {
         case ShaderVariant::StorageBuffers: return kWhittedCompStorageBuffersSpv;
         case ShaderVariant::RayQuery: return kWhittedCompRayQuerySpv;
+        case ShaderVariant::AddressesLean: return kWhittedCompLeanSpv;
         case ShaderVariant::Addresses: break;
     }
     return kWhittedCompSpv;
@@ -165,7 +167,7 @@ void Renderer::buildPipeline() {
     auto start = Clock::now();
     if (std::string shortfall = descriptorLimitShortfall(ctx_.physicalDevice.getProperties().limits); !shortfall.empty())
         throw std::runtime_error("device " + ctx_.deviceInfo().name + " " + shortfall);
-    shaderVariant_ = shaderVariantFor(ctx_, scene_, trace_, settings_.sceneReads);
+    shaderVariant_ = shaderVariantFor(ctx_, scene_, trace_, settings_.sceneReads, settings_.fittedShader);
     specialization_ = specializationFor(scene_);
     const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
                                                   {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
@@ -291,7 +293,7 @@ void Renderer::setScene(const Scene& scene) {
     // A shape or glass the old scene lacked needs the pipeline that has it;
     // arrays of another size may need the other way of reading them.
     if (specializationFor(scene_) != specialization_ ||
-        shaderVariantFor(ctx_, scene_, trace_, settings_.sceneReads) != shaderVariant_)
+        shaderVariantFor(ctx_, scene_, trace_, settings_.sceneReads, settings_.fittedShader) != shaderVariant_)
         buildPipeline();
     uploadScene();
 }

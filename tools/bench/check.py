@@ -21,6 +21,9 @@ def positive_counts(result):
     if result["scene"] != "mesh1m":  # a lone mesh has no mirror or glass: no secondary rays
         checks.append(("rays.secondary", w["rays"]["secondary"]))
     checks.append(("rays.shadow", w["rays"]["shadow"]))
+    embree = result.get("embree")
+    if embree and embree["supported"]:
+        checks += [("embree.camera_rays", embree["camera_rays"]), ("embree.rays_per_s", embree["rays_per_s"])]
     if result.get("povray"):
         checks += [("povray.wall_s", result["povray"]["wall_s"]), ("povray.render_s", result["povray"]["render_s"])]
     return checks

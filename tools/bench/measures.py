@@ -158,6 +158,15 @@ def targets(document):
             add(f"1M-triangle mesh >= 2x POV-Ray's trace speed ({mesh['width']}x{mesh['height']} {mesh['spp']} spp: "
                 "POV-Ray trace time / whitted render time)", p / w, 2.0, "higher",
                 f"render {w:.3f} s against trace {p:.3f} s")
+    for size in ("small", "full"):
+        mesh = fixed.get(("mesh1m", size))
+        if mesh and mesh.get("whitted_over_embree"):
+            e = mesh["embree"]
+            add(f"1M-triangle mesh, primary plus shadow rays >= 50% of Embree's rays per second ({mesh['width']}x"
+                f"{mesh['height']} {mesh['spp']} spp, Embree {e['embree']} {e['packet']}-ray packets on {e['threads']}"
+                " threads)", mesh["whitted_over_embree"]["primary_shadow_rays_per_s"], 0.5, "higher",
+                f"whitted {(mesh['whitted']['rays']['primary'] + mesh['whitted']['rays']['shadow']) / mesh['whitted']['render_s'] / 1e6:.2f}"
+                f" Mrays/s, Embree {e['rays_per_s'] / 1e6:.2f} Mrays/s")
     drag = document.get("drag_proxy")
     if drag:
         add(f"window during a camera drag: {drag['width']}x{drag['height']} at 1 spp in <= 50 ms (proxy: median "

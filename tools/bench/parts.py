@@ -11,7 +11,7 @@ import sys
 from .measures import clean, psnr
 from .plan import (DRAG_SIZE, MAX_DEPTH, POVRAY_ADAPTIVE, POVRAY_REFERENCE, POVRAY_THRESHOLDS, PSNR_TARGET_DB, ROOM,
                    WHITTED_REFERENCE, WHITTED_TRIES, povray_fixed_antialias)
-from .runners import export_pov, make_scene, povray_version, run_povray, run_whitted, sha256_file
+from .runners import export_pov, make_scene, povray_version, run_anchor, run_povray, run_whitted, sha256_file
 
 
 @dataclasses.dataclass
@@ -21,6 +21,7 @@ class Bench:
     exporter: str  # whitted_povray_export; None when POV-Ray is skipped
     drivers: list
     work: str
+    anchor: str = None  # whitted_embree_anchor (tools/embree_anchor.cpp); None when not built
 
 
 def progress(line):
@@ -57,15 +58,33 @@ def fixed_samples(bench, name, scene, note, size, width, height, spp):
     if bench.exporter:
         pov = run_povray(export_pov(bench.exporter, scene, bench.work, tag, width, height),
                          os.path.join(bench.work, tag + ".pov.png"), width, height, povray_fixed_antialias(spp))
+    embree = None
+    if bench.anchor:
+        progress(f"{name} {width}x{height} {spp} spp Embree anchor")
+        embree = run_anchor(bench.anchor, scene, width, height, spp)
     out = {}
     for d in bench.drivers:
         result = {"scene": name, "size": size, "width": width, "height": height, "spp": spp,
-                  "max_depth": MAX_DEPTH, "mesh_source": note, "whitted": ours[d.label], "povray": pov}
+                  "max_depth": MAX_DEPTH, "mesh_source": note, "whitted": ours[d.label], "povray": pov,
+                  "embree": embree}
         if pov and pov["render_s"]:
             result["povray_over_whitted"] = {"wall": pov["wall_s"] / ours[d.label]["wall_s"],
                                              "render": pov["render_s"] / ours[d.label]["render_s"]}
+        if embree and embree["supported"]:
+            result["whitted_over_embree"] = whitted_over_embree(ours[d.label], embree)
         out[d.label] = result
     return out
+
+
+def whitted_over_embree(ours, embree):
+    """whitted's rays per second as a fraction of the Embree anchor's, from the same run: all of whitted's rays, and
+    its camera plus shadow rays alone (what the anchor traces) over its render time."""
+    rays = ours["rays"]
+    return {"rays_per_s": ours["rays_per_s"] / embree["rays_per_s"],
+            "primary_shadow_rays_per_s": (rays["primary"] + rays["shadow"]) / ours["render_s"] / embree["rays_per_s"],
+            # How closely the anchor's rays are whitted's: its counts over whitted's.
+            "camera_rays_ratio": embree["camera_rays"] / rays["primary"] if rays["primary"] else None,
+            "shadow_rays_ratio": embree["shadow_rays"] / rays["shadow"] if rays["shadow"] else None}
 
 
 def cached_reference(cache, key, make, fresh):

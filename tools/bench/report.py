@@ -106,6 +106,14 @@ def print_fixed(r):
         if "povray_over_whitted" in r:
             ratio = r["povray_over_whitted"]
             line += f"  POV-Ray/whitted: wall {ratio['wall']:.2f}x, render {ratio['render']:.2f}x"
+    embree = r.get("embree")
+    if embree and embree["supported"]:
+        ratio = r["whitted_over_embree"]
+        line += (f"\n{'':11s} Embree {embree['embree']}: {embree['rays_per_s'] / 1e6:.2f} Mrays/s ({embree['packet']}-ray "
+                 f"packets, {embree['threads']} threads; camera {embree['camera_rays']}, shadow {embree['shadow_rays']})"
+                 f"  whitted/Embree: {ratio['primary_shadow_rays_per_s']:.3f} (primary + shadow rays)")
+    elif embree:
+        line += f"\n{'':11s} Embree anchor: none ({embree['reason']})"
     if ours["lost_samples"]:
         line += f"\n{'':11s} WARNING: {ours['lost_samples']} camera samples lost: the image is incomplete"
     print(line, flush=True)

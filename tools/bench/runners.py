@@ -126,6 +126,22 @@ def run_whitted(whitted, driver, scene, out_png, width, height, sampling):
     return whitted_measures(read_record(out_png), " ".join(command[5:]), " ".join(sampling) or "default", wall, rss)
 
 
+def run_anchor(anchor, scene, width, height, spp):
+    """tools/embree_anchor.cpp on a scene: Embree tracing whitted's camera and shadow rays of the same image on every
+    core. Returns its JSON with the process's wall time; its "supported" is false for shapes it does not trace."""
+    command = [anchor, scene, "--width", str(width), "--height", str(height), "--spp", str(spp)]
+    status, output, wall, _ = run(command)
+    if status != 0:
+        fail(f"whitted_embree_anchor failed on {scene} (exit {status}):\n{output}", 1)
+    try:
+        result = json.loads(output)
+    except ValueError as e:
+        fail(f"whitted_embree_anchor printed no JSON on {scene} ({e}):\n{output[-2000:]}", 1)
+    result["wall_s"] = wall
+    result.pop("scene", None)
+    return result
+
+
 def export_pov(exporter, scene, work, tag, width, height):
     """Exports a scene to WORK/TAG.pov for POV-Ray at the given size and whitted's maximum depth."""
     pov = os.path.join(work, tag + ".pov")
