@@ -6,6 +6,7 @@
 #include "render/ray_tree.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
+#include "view/ray_tree_overlay.h"
 
 #include <glm/gtc/epsilon.hpp>
 
@@ -332,6 +333,56 @@ TEST(RayTree, TraceCommandPrintsTheTreeAndItsErrorsExitTwo) {
     for (const auto& entry : fs::directory_iterator(dir)) files.insert(entry.path().filename().string());
     EXPECT_EQ(files, std::set<std::string>{"bad.xml"}) << "trace writes nothing";
 }
+
+// The window under Xvfb: after `pick`, the window screenshot shows the tree
+// over the image. The scene is the mirror of the hand-computed test above
+// (camera on +z, 41x31 shown 19 times enlarged, 779x589): the camera ray's
+// ring sits on the centre pixel; the reflection runs from the mirror at the
+// origin along +x, so along the image's middle row to the right edge; the
+// mirror's shadow ray to the light at (0, 3, 3) runs straight up from the
+// centre, its midpoint (0, 1.5, 1.5) at depth 3.5: ndc y = (1.5 / 3.5) /
+// tan 30 = 0.742, window row (1 - 0.742) / 2 * 589 = 76.
+TEST(RayTree, WindowDrawsThePickedPixelsTreeOverTheImage) {
+    fs::path dir = freshOutputDir("ray_tree", "window");
+    std::ofstream(dir / "mirror.xml") << R"(<scene><camera><position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/>
+      <width>41</width><height>31</height></camera>
+      <lights><light><position x="0" y="3" z="3"/><color r="1" g="1" b="1"/></light></lights><objects>
+      <object><position x="0" y="0" z="0"/><properties><type>plane</type><normal x="1" y="0" z="1"/>
+        <diffuse_coef>0.3</diffuse_coef><reflective>true</reflective><reflection_coef>0.7</reflection_coef></properties></object>
+      <object><position x="6" y="0" z="0"/><diffuse_color r="1" g="0" b="0"/>
+        <properties><type>sphere</type><radius>1</radius><ambiente_coef>0.2</ambiente_coef></properties></object>
+      </objects></scene>)";
+    std::ofstream(dir / "script.txt") << "spp 1\nkey F1\npick 20 15\nframes 2\nwindow_screenshot window.png\n"
+                                         "screenshot image.png\nquit\n";
+    CommandRun view = runCommand("xvfb-run -a -s '-screen 0 1024x768x24' '" WHITTED_EXECUTABLE
+                                 "' view mirror.xml --spp 1 --script script.txt",
+                                 dir);
+    ASSERT_EQ(view.status, 0) << view.output;
+    EXPECT_NE(view.output.find("view: ray tree of pixel 20,15: 2 rays"), std::string::npos) << view.output;
+    int w = 0, h = 0, channels = 0;
+    std::vector<float> storage;
+    std::span<const float> window = readImageInto(dir / "window.png", w, h, channels, storage);
+    ASSERT_EQ(w, 779);
+    ASSERT_EQ(h, 589);
+    // Some pixel within 3 of (x, y) has the overlay's colour (RGBA8 0xAABBGGRR).
+    auto near = [&](std::span<const float> image, int x, int y, uint32_t colour) {
+        glm::vec3 want(float(colour & 0xff), float((colour >> 8) & 0xff), float((colour >> 16) & 0xff));
+        for (int dy = -3; dy <= 3; ++dy)
+            for (int dx = -3; dx <= 3; ++dx) {
+                const float* p = &image[(size_t(y + dy) * w + x + dx) * channels];
+                glm::vec3 got(p[0] * 255.0f, p[1] * 255.0f, p[2] * 255.0f);
+                if (glm::all(glm::lessThanEqual(glm::abs(got - want), glm::vec3(40.0f)))) return true;
+            }
+        return false;
+    };
+    for (int x : {480, 560, 640, 720}) EXPECT_TRUE(near(window, x, 294, kOverlayReflectionColour)) << "x " << x;
+    EXPECT_TRUE(near(window, 389, 76, kOverlayShadowColour));
+    EXPECT_TRUE(near(window, 389, 294 - 6, kOverlayCameraColour));
+    std::vector<float> plainStorage;
+    std::span<const float> plain = readImageInto(dir / "image.png", w, h, channels, plainStorage);
+    ASSERT_EQ(w, 41) << "the image alone, without the overlay";
+}
+
 
 }  // namespace
 }  // namespace whitted::test
