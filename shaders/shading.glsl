@@ -10,6 +10,10 @@ struct LocalShading {
     uint shadowRays;
 };
 
+#ifdef WHITTED_RAY_TREE  // the ray-tree recorder's build (shaders/ray_tree.glsl)
+#include "ray_tree.glsl"
+#endif
+
 // Ambient ka Cd A plus, per point light, its visibility (shadow ray) times
 // kd Cd max(N.L, 0) + ks Cs max(R.V, 0)^shininess. n is the shading normal,
 // ng the geometric one; both face the viewer and p is already offset to the
@@ -37,6 +41,9 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
         vec3 visibility = vec3(1.0);
 #else
         vec3 visibility = shadowTransmittance(Ray(p, l), dist);
+#endif
+#ifdef WHITTED_RAY_TREE
+        rayTreeShadowRay(i, Ray(p, l), dist, visibility, s.diffuse, s.specular);
 #endif
         if (all(equal(visibility, vec3(0.0)))) continue;
         vec3 light = visibility * lights[i].color;

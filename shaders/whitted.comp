@@ -106,10 +106,16 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             Ray ray = generateCameraRay(vec2(pixel) + offset, size, params.eye, params.forward,
                                         params.right, params.up, params.projection);
             stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u, pixelCone);
+#ifdef WHITTED_RAY_TREE
+            rayTreePush(top - 1, kRayCamera, ray, vec3(1.0), 0u);
+#endif
             rayCount.x += 1u;
             ++nextSample;
         }
         PendingRay pending = stack[--top];
+#ifdef WHITTED_RAY_TREE
+        rayTreePop(top);
+#endif
         Ray ray = pending.ray;
         if (pending.depth > 0u) rayCount.z += 1u;
         Hit hit;
@@ -175,6 +181,9 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             addBounceSplit(pending.component, pending.depth, light);
             sampleColor += light;
         }
+#ifdef WHITTED_RAY_TREE
+        rayTreeShaded(hit, prim, frontFace, p, ns, pending.weight, local);
+#endif
         if (pending.depth >= maxDepth) continue;
         // Secondary rays: refraction by Snell's law with the object's IOR
         // against air; total internal reflection sends the transmitted share
@@ -195,11 +204,17 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             if (dot(refracted, n) >= 0.0) refracted = refract(ray.dir, n, eta);
             if (all(equal(refracted, vec3(0.0)))) {
                 reflectWeight += vec3(kt);
+#ifdef WHITTED_RAY_TREE
+                rayTreeTotalInternal();
+#endif
             } else {
                 uint component = pending.depth == 0u ? kAovTransmission : pending.component;
                 vec2 cone = vec2(coneWidth, eta * pending.cone.y - (1.0 - eta) * curvature * coneWidth);
                 stack[top++] = PendingRay(Ray(offsetRay(p, -n), normalize(refracted)),
                                           pending.weight * kt, childDepth, component, cone);
+#ifdef WHITTED_RAY_TREE
+                rayTreePush(top - 1, kRayRefraction, stack[top - 1].ray, stack[top - 1].weight, childDepth);
+#endif
             }
         }
         if (any(greaterThan(reflectWeight, vec3(0.0)))) {
@@ -209,6 +224,9 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             vec2 cone = vec2(coneWidth, pending.cone.y + 2.0 * curvature * coneWidth);
             stack[top++] = PendingRay(Ray(pOutside, reflected),
                                       pending.weight * reflectWeight, childDepth, component, cone);
+#ifdef WHITTED_RAY_TREE
+            rayTreePush(top - 1, rayTreeReflectionKind(), stack[top - 1].ray, stack[top - 1].weight, childDepth);
+#endif
         }
     }
     if (end > first) addToSpread(spread, sampleColor, sampleObject, end == first + 1u);

@@ -60,7 +60,7 @@ static_assert(sizeof(gpu::TileParams) == 80 && offsetof(gpu::TileParams, tileOri
               offsetof(gpu::TileParams, flags) == 28 && offsetof(gpu::TileParams, outputOrigin) == 32 &&
               offsetof(gpu::TileParams, outputSize) == 40 && offsetof(gpu::TileParams, guideOrigin) == 48 &&
               offsetof(gpu::TileParams, guideSize) == 56 && offsetof(gpu::TileParams, listFirst) == 64 &&
-              offsetof(gpu::TileParams, listCount) == 68);
+              offsetof(gpu::TileParams, listCount) == 68 && offsetof(gpu::TileParams, rayTreeAddress) == 72);
 static_assert(sizeof(gpu::RayCounters) == 16 && offsetof(gpu::RayCounters, primary) == 0 &&
               offsetof(gpu::RayCounters, shadow) == 4 && offsetof(gpu::RayCounters, secondary) == 8);
 static_assert(sizeof(gpu::DisplayParams) == 48 && offsetof(gpu::DisplayParams, kind) == 0 &&

@@ -63,6 +63,10 @@ public:
     uint32_t layerCount() const { return layerCount_; }
     const RenderSettings& settings() const { return settings_; }
     TracePath trace() const { return trace_; }  // Bvh or RayQuery
+    // What the ray-tree recorder (render/ray_tree.h) runs its build of the
+    // tracer with: this renderer's descriptor set and specialization.
+    vk::DescriptorSet descriptorSet() const { return *descriptorSet_; }
+    const Specialization& specialization() const { return specialization_; }
 
 private:
     void buildPipeline();

@@ -79,6 +79,8 @@ ScriptStep ScriptRunner::step(ScriptTarget& target) {
             if (auto error = target.editObject(edit->object, edit->field, edit->value)) return fail("edit: " + *error);
         } else if (const auto* select = std::get_if<script::Select>(&a)) {
             target.select(select->light, select->index);
+        } else if (const auto* pick = std::get_if<script::Pick>(&a)) {
+            if (auto error = target.pickPixel(pick->x, pick->y)) return fail("pick: " + *error);
         } else if (const auto* layer = std::get_if<script::Layer>(&a)) {
             target.showLayer(layer->index);
         } else if (const auto* shot = std::get_if<script::Screenshot>(&a)) {

@@ -31,6 +31,8 @@ public:
     virtual std::optional<std::string> editObject(int object, ObjectField field, double value) = 0;
     virtual void select(bool light, int index) = 0;
     virtual void showLayer(size_t index) = 0;  // into layerViews
+    // Shows the ray tree of image pixel (x, y); an error text when it is outside the image.
+    virtual std::optional<std::string> pickPixel(int x, int y) = 0;
     virtual void screenshotAfterFrame(const std::filesystem::path& path, bool window) = 0;
     virtual void saveImages() = 0;
     virtual void saveScene() = 0;

@@ -3,6 +3,7 @@
 #include "output/aov_output.h"
 #include "io/image_io.h"
 #include "output/render_record.h"
+#include "render/ray_tree.h"
 #include "render/renderer.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
@@ -13,6 +14,7 @@
 #include "view/layer_views.h"
 #include "view/presenter.h"
 #include "view/progressive.h"
+#include "view/ray_tree_overlay.h"
 #include "view/script_runner.h"
 #include "view/window.h"
 #include "vk/context.h"
@@ -107,6 +109,15 @@ public:
         editor_.selectedObject = light ? -1 : index;
     }
     void showLayer(size_t index) override { layer_ = index; }
+    std::optional<std::string> pickPixel(int x, int y) override {
+        if (x >= renderer_.width() || y >= renderer_.height())
+            return "pixel " + std::to_string(x) + "," + std::to_string(y) + " is outside the " +
+                   std::to_string(renderer_.width()) + "x" + std::to_string(renderer_.height()) + " image";
+        rayTree_.pixel = glm::ivec2(x, y);
+        rayTree_.picking = false;
+        retraceRayTree();
+        return std::nullopt;
+    }
     void screenshotAfterFrame(const std::filesystem::path& path, bool window) override {
         pendingShots_.emplace_back(path, window);
     }
@@ -160,6 +171,16 @@ private:
         shown.camera = camera_.camera();
         renderer_.setScene(shown);
         restart(why);
+        retraceRayTree();
+    }
+    // The picked pixel's tree for the scene and camera now uploaded.
+    void retraceRayTree() {
+        if (!rayTree_.pixel) return;
+        rayTree_.tree = rayTreeRecorder_.trace(renderer_, rayTree_.pixel->x, rayTree_.pixel->y);
+        glm::vec3 c = rayTree_.tree->color();
+        log("ray tree of pixel " + std::to_string(rayTree_.pixel->x) + "," + std::to_string(rayTree_.pixel->y) + ": " +
+            std::to_string(rayTree_.tree->rays.size()) + " rays, colour " + std::to_string(c.r) + " " +
+            std::to_string(c.g) + " " + std::to_string(c.b));
     }
     void checkReload();
     void watchTextures();
@@ -201,6 +222,8 @@ private:
     float depthScale_ = 1;
     EditorState editor_;
     OverlayInfo overlay_;
+    RayTreeRecorder rayTreeRecorder_{ctx_};
+    RayTreeView rayTree_;
 
     // Input state.
     std::set<int> heldKeys_;
@@ -246,6 +269,10 @@ void ViewApp::onKey(int key, int action, int mods) {
         case GLFW_KEY_P:
             guarded([&] { saveImages(); });
             break;
+        case GLFW_KEY_T:
+            rayTree_.picking = true;
+            overlay_.status = "click a pixel to see its ray tree";
+            break;
         case GLFW_KEY_F1:
             editor_.visible = !editor_.visible;
             break;
@@ -259,6 +286,18 @@ void ViewApp::onKey(int key, int action, int mods) {
 
 void ViewApp::onMouseButton(int button, int action, double x, double y) {
     cursor_ = {x, y};
+    // T then a click, or Ctrl+click: the ray tree of the pixel under the cursor.
+    bool control = heldKeys_.count(GLFW_KEY_LEFT_CONTROL) || heldKeys_.count(GLFW_KEY_RIGHT_CONTROL);
+    if (button == GLFW_MOUSE_BUTTON_LEFT && action == GLFW_PRESS && (rayTree_.picking || control) &&
+        !ImGui::GetIO().WantCaptureMouse) {
+        int w = 0, h = 0;
+        glfwGetWindowSize(window_.handle(), &w, &h);
+        int px = std::clamp(int(x * renderer_.width() / std::max(w, 1)), 0, renderer_.width() - 1);
+        int py = std::clamp(int(y * renderer_.height() / std::max(h, 1)), 0, renderer_.height() - 1);
+        pickPixel(px, py);
+        overlay_.status.clear();
+        return;
+    }
     if (action == GLFW_PRESS && dragButton_ < 0)
         dragButton_ = button;
     else if (action == GLFW_RELEASE && button == dragButton_)
@@ -406,6 +445,7 @@ ViewOutcome ViewApp::run() {
         if (camera_.takeChanged()) {
             renderer_.setCamera(camera_.camera());
             restart("camera moved");
+            retraceRayTree();
         }
         overlay_.layer = layers_[layer_].name;
         overlay_.samples = progressive_.completedSamples();
@@ -413,6 +453,9 @@ ViewOutcome ViewApp::run() {
         overlay_.frameMs = smoothedMs;
         overlay_.raysPerSecond = smoothedRays;
         drawOverlay(overlay_);
+        ImVec2 windowSize = ImGui::GetIO().DisplaySize;
+        drawRayTreeView(rayTree_, scene_, camera_.camera(), glm::vec2(renderer_.width(), renderer_.height()),
+                        glm::vec2(windowSize.x, windowSize.y));
         ImDrawData* drawData = imgui_.render();
 
         if (!presenter_.beginFrame()) {  // minimised, or the swapchain was rebuilt

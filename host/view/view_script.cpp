@@ -106,6 +106,11 @@ ScriptAction parseAction(const std::string& name, const std::vector<std::string>
             if (layers[i].name == args[0]) return script::Layer{i};
         throw refuse("unknown layer '" + args[0] + "'");
     }
+    if (name == "pick") {
+        auto x = number<int>(args[0]), y = number<int>(args[1]);
+        if (!x || !y || *x < 0 || *y < 0) throw refuse("pick X Y (an image pixel)");
+        return script::Pick{*x, *y};
+    }
     if (name == "screenshot" || name == "window_screenshot")
         return script::Screenshot{args[0], name == "window_screenshot"};
     if (name == "save_images") return script::SaveImages{};
@@ -132,6 +137,7 @@ std::vector<ScriptCommand> loadScript(const std::filesystem::path& path, const S
                                                          {"save_images", 0},
                                                          {"save_scene", 0},
                                                          {"select", 2},
+                                                         {"pick", 2},
                                                          {"quit", 0}};
     std::ifstream in(path);
     if (!in) throw std::invalid_argument(path.string() + ": cannot read the script");

@@ -16,6 +16,8 @@
 //                         checker_size | checker_r|g|b | absorption_r|g|b | operation |
 //                         texture_scale | normal_strength), value
 //   select light|object N select an entry in the editor panel (shows its fields)
+//   pick X Y              what T then a click on image pixel X,Y does: show its
+//                         ray tree (view/ray_tree_overlay.h)
 //   layer NAME            show an auxiliary image (color = the main image; view/layer_views.h)
 //   screenshot FILE       write the image shown (without overlay) as PNG
 //   window_screenshot FILE  write the whole window, overlay included
@@ -55,6 +57,7 @@ struct Replace { std::filesystem::path file; std::string text, replacement; };
 struct Edit { int object; ObjectField field; double value; };
 struct Select { bool light; int index; };
 struct Layer { size_t index; };
+struct Pick { int x, y; };
 struct Screenshot { std::filesystem::path path; bool window; };
 struct SaveImages {};
 struct SaveScene {};
@@ -64,7 +67,7 @@ struct Quit {};
 using ScriptAction = std::variant<script::Frames, script::Spp, script::Reload, script::Key, script::Hold, script::Drag,
                                   script::Scroll, script::Copy, script::Replace, script::Edit, script::Select,
                                   script::Layer, script::Screenshot, script::SaveImages, script::SaveScene,
-                                  script::Quit>;
+                                  script::Quit, script::Pick>;
 
 struct ScriptCommand {
     int line = 0;

@@ -1,0 +1,173 @@
+// `whitted trace SCENE --pixel X,Y`: the ray tree behind one pixel
+// (render/ray_tree.h), as indented text or, with --json, the full record.
+#include "app/cli_options.h"
+#include "app/commands.h"
+#include "app/quick_look.h"
+#include "device_types.h"
+#include "render/ray_tree.h"
+#include "render/renderer.h"
+#include "scene/scene_error.h"
+#include "scene/scene_loader.h"
+#include "vk/context.h"
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+#include <memory>
+#include <regex>
+#include <string>
+
+namespace whitted {
+namespace {
+
+struct TraceArguments {
+    std::filesystem::path scene;
+    std::string pixel;
+    int width = 0, height = 0;
+    int maxDepth = 6;
+    bool json = false;
+    std::string device;
+    bool validation = false;
+};
+
+nlohmann::json rgbJson(glm::vec3 c) { return {c.r, c.g, c.b}; }
+
+// The full record: every field of every ray, shadow ray and crossing, the
+// objects named.
+nlohmann::json rayTreeJson(const RayTree& tree, const Scene& scene) {
+    auto object = [&](uint32_t material) -> nlohmann::json {
+        if (material == gpu::kNoObject) return nullptr;
+        return {{"material", material},
+                {"label", objectLabel(scene, material)},
+                {"name", material < scene.objects.size() ? scene.objects[material].name : ""}};
+    };
+    nlohmann::json rays = nlohmann::json::array();
+    for (uint32_t i = 0; i < tree.rays.size(); ++i) {
+        const gpu::RayTreeRay& r = tree.rays[i];
+        nlohmann::json ray = {{"index", i},
+                              {"kind", rayKindName(r.kind)},
+                              {"depth", r.depth},
+                              {"parent", r.parent == gpu::kNoObject ? nlohmann::json(nullptr) : nlohmann::json(r.parent)},
+                              {"origin", rgbJson(r.origin)},
+                              {"direction", rgbJson(r.direction)},
+                              {"weight", rgbJson(r.weight)},
+                              {"ambient", rgbJson(r.ambient)},
+                              {"diffuse", rgbJson(r.diffuse)},
+                              {"specular", rgbJson(r.specular)},
+                              {"emission", rgbJson(r.emission)},
+                              {"contribution", rgbJson(r.contribution)},
+                              {"hit", nullptr}};
+        if (r.primitive != gpu::kNoObject)
+            ray["hit"] = {{"t", r.t},
+                          {"object", object(r.material)},
+                          {"primitive", r.primitive},
+                          {"shape", shapeName(r.shape)},
+                          {"front_face", r.frontFace != 0},
+                          {"point", rgbJson(r.point)},
+                          {"normal", rgbJson(r.normal)}};
+        nlohmann::json shadows = nlohmann::json::array();
+        for (uint32_t s = r.firstShadowRay; s < r.firstShadowRay + r.shadowRayCount && s < tree.shadowRays.size(); ++s) {
+            const gpu::RayTreeShadowRay& sr = tree.shadowRays[s];
+            nlohmann::json crossings = nlohmann::json::array();
+            for (uint32_t c = sr.firstCrossing; c < sr.firstCrossing + sr.crossingCount && c < tree.crossings.size(); ++c)
+                crossings.push_back({{"t", tree.crossings[c].t},
+                                     {"object", object(tree.crossings[c].material)},
+                                     {"primitive", tree.crossings[c].primitive},
+                                     {"filter", rgbJson(tree.crossings[c].filterColour)}});
+            shadows.push_back({{"light", sr.light},
+                               {"origin", rgbJson(sr.origin)},
+                               {"direction", rgbJson(sr.direction)},
+                               {"distance", sr.distance},
+                               {"outcome", shadowOutcomeName(sr.outcome)},
+                               {"blocker", object(sr.blockerMaterial)},
+                               {"blocker_t", sr.blockerT},
+                               {"visibility", rgbJson(sr.visibility)},
+                               {"transmittance", rgbJson(sr.transmittance)},
+                               {"absorption", rgbJson(sr.absorption)},
+                               {"diffuse", rgbJson(sr.diffuse)},
+                               {"specular", rgbJson(sr.specular)},
+                               {"crossings", crossings}});
+        }
+        ray["shadow_rays"] = shadows;
+        rays.push_back(ray);
+    }
+    return {{"pixel", {tree.x, tree.y}},
+            {"width", tree.width},
+            {"height", tree.height},
+            {"max_depth", tree.maxDepth},
+            {"color", rgbJson(tree.color())},
+            {"dropped", tree.dropped},
+            {"rays", rays}};
+}
+
+int runTrace(const TraceArguments& args) {
+    std::smatch m;
+    static const std::regex kPixel(R"(^\s*(\d+)\s*,\s*(\d+)\s*$)");
+    if (!std::regex_match(args.pixel, m, kPixel) || m[1].length() > 6 || m[2].length() > 6) {
+        std::cerr << "whitted: --pixel: expected X,Y (two integers), got '" << args.pixel << "'\n";
+        return kExitBadInput;
+    }
+    int x = std::stoi(m[1].str()), y = std::stoi(m[2].str());
+    Scene scene;
+    try {
+        scene = loadSceneOrModel(args.scene);
+    } catch (const SceneError& e) {
+        std::cerr << e.what() << "\n";
+        return kExitBadInput;
+    }
+    RenderSettings settings;
+    settings.width = args.width;
+    settings.height = args.height;
+    settings.maxDepth = args.maxDepth;
+    settings.samplesPerPixel = 1;
+    settings.antiAliasing = AntiAliasing::Uniform;
+    settings.auxiliary = false;
+    settings.bandBytes = 0;
+    // The image's size is known before the device starts: refuse the pixel first.
+    int width = args.width > 0 ? args.width : scene.camera.width;
+    int height = args.height > 0 ? args.height : scene.camera.height;
+    if (x >= width || y >= height) {
+        std::cerr << "whitted: --pixel " << x << "," << y << " is outside the " << width << "x" << height
+                  << " image\n";
+        return kExitBadInput;
+    }
+    VulkanContext ctx({.validation = args.validation, .deviceName = args.device});
+    Renderer renderer(ctx, scene, settings);
+    RayTreeRecorder recorder(ctx);
+    RayTree tree = recorder.trace(renderer, x, y);
+    if (ctx.validationMessageCount() > 0) {
+        std::cerr << "whitted: the Vulkan validation layer reported " << ctx.validationMessageCount()
+                  << " message(s)\n";
+        return kExitValidation;
+    }
+    if (args.json)
+        std::cout << rayTreeJson(tree, scene).dump(2) << "\n";
+    else
+        std::cout << rayTreeText(tree, scene);
+    return kExitOk;
+}
+
+}  // namespace
+
+Command addTraceCommand(CLI::App& app) {
+    auto args = std::make_shared<TraceArguments>();
+    auto* cmd = app.add_subcommand("trace", "print the ray tree behind one pixel, each ray with its share of the colour");
+    cmd->add_option("scene", args->scene, "scene XML file (.xml), or a model file")->required();
+    cmd->add_option("--pixel", args->pixel, "the pixel X,Y (0,0 the top left)")->required();
+    cmd->add_option("--width", args->width, "image width in pixels [scene's]")->check(CLI::Range(1, int(gpu::kMaxImageSide)));
+    cmd->add_option("--height", args->height, "image height in pixels [scene's]")
+        ->check(CLI::Range(1, int(gpu::kMaxImageSide)));
+    cmd->add_option("--max-depth", args->maxDepth, "secondary bounces; 0 = local shading only")
+        ->check(CLI::Range(0, int(gpu::kMaxDepthLimit)))->capture_default_str();
+    cmd->add_flag("--json", args->json, "print the full record as JSON");
+    cmd->add_option("--device", args->device, "Vulkan device index or name substring [best available]");
+    cmd->add_flag("--validate", args->validation, "enable the Khronos validation layer; fail on any message");
+    return {cmd, [args] {
+                TraceArguments a = *args;
+                a.validation = a.validation || validationFromEnvironment();
+                return runTrace(a);
+            }};
+}
+
+}  // namespace whitted

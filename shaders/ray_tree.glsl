@@ -1,0 +1,205 @@
+// The ray-tree recorder: included by shaders/whitted.comp in its build with
+// -DWHITTED_RAY_TREE only, whose #ifdef WHITTED_RAY_TREE hooks call these
+// functions. The host (host/render/ray_tree.h) dispatches that build over one
+// pixel and one sample (its centre), so every ray the tracer traces there is
+// written into the RayTreeRecord at TileParams.rayTreeAddress
+// (device_types.h). The values recorded are the tracer's own (its weights,
+// its local terms, its shadow rays' visibility); only which surfaces a shadow
+// ray crosses is found again here (rayTreeShadowCrossings), because the
+// shadow walk keeps no list of them.
+#ifndef WHITTED_RAY_TREE_GLSL
+#define WHITTED_RAY_TREE_GLSL
+#include "intersect.glsl"
+
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer RayTreeBuffer { RayTreeRecord record; };
+#define rayTree (RayTreeBuffer(tileParams.rayTreeAddress).record)
+
+// The record's index of each pending ray of traceSamples' stack (kNoObject:
+// not recorded), the ray being shaded, and whether its reflection carries a
+// total internal reflection.
+uint gRayTreeStack[kRayStackSize];
+uint gRayTreeCurrent = kNoObject;
+bool gRayTreeTotalInternal = false;
+// What the current ray's diffuse and specular sums held when its last
+// shadow ray was recorded: that light's share is what was added since.
+vec3 gRayTreeDiffuseBefore = vec3(0.0);
+vec3 gRayTreeSpecularBefore = vec3(0.0);
+
+// A ray pushed onto slot `slot` of the stack by the current ray (none for the
+// camera ray). Its hit and terms follow when it is shaded (rayTreeShaded).
+void rayTreePush(uint slot, uint kind, Ray ray, vec3 weight, uint depth) {
+    gRayTreeStack[slot] = kNoObject;
+    uint parent = kind == kRayCamera ? kNoObject : gRayTreeCurrent;
+    if (kind != kRayCamera && parent == kNoObject) return;  // its parent was dropped
+    uint i = rayTree.rayCount;
+    if (i >= kRayTreeMaxRays) {
+        rayTree.dropped += 1u;
+        return;
+    }
+    rayTree.rayCount = i + 1u;
+    RayTreeRay r;
+    r.origin = ray.origin;
+    r.kind = kind;
+    r.direction = ray.dir;
+    r.depth = depth;
+    r.point = ray.origin;
+    r.t = 0.0;
+    r.normal = vec3(0.0);
+    r.primitive = kNoObject;
+    r.weight = weight;
+    r.material = kNoObject;
+    r.ambient = vec3(0.0);
+    r.shape = 0u;
+    r.diffuse = vec3(0.0);
+    r.frontFace = 0u;
+    r.specular = vec3(0.0);
+    r.parent = parent;
+    r.emission = vec3(0.0);
+    r.firstShadowRay = rayTree.shadowRayCount;
+    r.contribution = vec3(0.0);
+    r.shadowRayCount = 0u;
+    rayTree.rays[i] = r;
+    gRayTreeStack[slot] = i;
+}
+
+// The ray popped from slot `slot` is the one traced and shaded next.
+void rayTreePop(uint slot) {
+    gRayTreeCurrent = gRayTreeStack[slot];
+    // Its shadow rays come next (rays pushed after it may be traced before).
+    if (gRayTreeCurrent != kNoObject) rayTree.rays[gRayTreeCurrent].firstShadowRay = rayTree.shadowRayCount;
+    gRayTreeTotalInternal = false;
+    gRayTreeDiffuseBefore = vec3(0.0);
+    gRayTreeSpecularBefore = vec3(0.0);
+}
+
+// The current ray's reflection also carries the transmitted share.
+void rayTreeTotalInternal() { gRayTreeTotalInternal = true; }
+
+// The kind of the reflection ray the current ray spawns.
+uint rayTreeReflectionKind() { return gRayTreeTotalInternal ? kRayTotalInternal : kRayReflection; }
+
+// The surfaces a shadow ray crosses in (0, tMax), found as
+// shadowTransmittance's walk finds them (testPrimitive and testCsg in
+// intersect.glsl: every primitive, a convex one at most twice, a csg object
+// crossing by crossing), but over all primitives in order so that each can be
+// written down. Fills the shadow ray's outcome, blocker, transmittance and
+// absorption.
+void rayTreeShadowCrossings(inout RayTreeShadowRay s, Ray ray, float tMax) {
+    vec3 transmittance = vec3(1.0), opticalDepth = vec3(0.0);
+    bool blocked = false;
+    uint end = params.firstListPrimitive + params.listPrimitiveCount;
+    const uint shapes = (kShapeMask | kListShapeMask) & ~(1u << kShapeCsg);
+    for (uint i = 0u; i < end; ++i) {
+        bool csg = primitives[i].shape == kShapeCsg;
+        float tFrom = 0.0;
+        for (uint crossing = 0u; crossing < (csg ? 2u * kCsgMaxLeaves : 2u); ++crossing) {
+            float t = tMax;
+            vec3 n;
+            uint leaf = i;
+            bool crossed = csg ? intersectCsg(i, ray, tFrom, t, n, leaf)
+                               : intersectPrimitiveAt(i, shapes, ray, tFrom, t, n);
+            if (!crossed) break;
+            tFrom = t;
+            uint k = primitives[leaf].material;
+            float kt = kSceneHasTransparency ? materials[k].kt : 0.0;
+            vec3 filterColour = vec3(0.0);
+            if (kt <= 0.0) {
+                if (!blocked || t < s.blockerT) {
+                    s.blocker = leaf;
+                    s.blockerMaterial = k;
+                    s.blockerT = t;
+                }
+                blocked = true;
+            } else {
+                filterColour = kt * mix(vec3(1.0), crossingColour(leaf, k, ray.origin + t * ray.dir, n), materials[k].kd);
+                transmittance *= filterColour;
+                opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
+            }
+            uint c = rayTree.crossingCount;
+            if (c >= kRayTreeMaxCrossings) {
+                rayTree.dropped += 1u;
+            } else {
+                rayTree.crossingCount = c + 1u;
+                rayTree.crossings[c] = RayTreeCrossing(filterColour, t, leaf, k, 0u, 0u);
+                s.crossingCount += 1u;
+            }
+        }
+    }
+    s.absorption = exp(-max(opticalDepth, vec3(0.0)));
+    s.transmittance = blocked ? vec3(0.0) : transmittance * s.absorption;
+    s.outcome = blocked ? kShadowBlocked : (s.crossingCount > 0u ? kShadowFiltered : kShadowLit);
+}
+
+// The light before the last recorded one gets its share of the current
+// ray's diffuse and specular sums: what they gained since its shadow ray.
+void rayTreeCloseShadowRay(vec3 diffuse, vec3 specular) {
+    if (gRayTreeCurrent == kNoObject) return;
+    uint count = rayTree.rays[gRayTreeCurrent].shadowRayCount;
+    if (count == 0u) return;
+    uint last = rayTree.rays[gRayTreeCurrent].firstShadowRay + count - 1u;
+    rayTree.shadowRays[last].diffuse = diffuse - gRayTreeDiffuseBefore;
+    rayTree.shadowRays[last].specular = specular - gRayTreeSpecularBefore;
+    gRayTreeDiffuseBefore = diffuse;
+    gRayTreeSpecularBefore = specular;
+}
+
+// shadeLocal traced a shadow ray towards light `light` and got `visibility`;
+// diffuse and specular are its sums so far (before this light's terms).
+void rayTreeShadowRay(uint light, Ray ray, float dist, vec3 visibility, vec3 diffuse, vec3 specular) {
+    if (gRayTreeCurrent == kNoObject) return;
+    rayTreeCloseShadowRay(diffuse, specular);
+    uint i = rayTree.shadowRayCount;
+    if (i >= kRayTreeMaxShadowRays) {
+        rayTree.dropped += 1u;
+        return;
+    }
+    rayTree.shadowRayCount = i + 1u;
+    RayTreeShadowRay s;
+    s.origin = ray.origin;
+    s.ray = gRayTreeCurrent;
+    s.direction = ray.dir;
+    s.light = light;
+    s.visibility = visibility;
+    s.distance = dist;
+    s.diffuse = vec3(0.0);
+    s.outcome = kShadowLit;
+    s.specular = vec3(0.0);
+    s.blocker = kNoObject;
+    s.transmittance = vec3(1.0);
+    s.blockerT = dist;
+    s.absorption = vec3(1.0);
+    s.firstCrossing = rayTree.crossingCount;
+    s.crossingCount = 0u;
+    s.blockerMaterial = kNoObject;
+    s.pad0 = 0u;
+    s.pad1 = 0u;
+    rayTreeShadowCrossings(s, ray, dist);
+    rayTree.shadowRays[i] = s;
+    // Shadow rays of one ray are consecutive: they are traced while it is shaded.
+    rayTree.rays[gRayTreeCurrent].shadowRayCount += 1u;
+}
+
+// The current ray hit `hit` and was shaded: its hit, the weight that scaled
+// its local terms and its contribution, as traceSamples adds it to the pixel.
+void rayTreeShaded(Hit hit, Primitive prim, bool frontFace, vec3 p, vec3 ns, vec3 weight, LocalShading local) {
+    if (gRayTreeCurrent == kNoObject) return;
+    rayTreeCloseShadowRay(local.diffuse, local.specular);
+    uint i = gRayTreeCurrent;
+    rayTree.rays[i].point = p;
+    rayTree.rays[i].t = hit.t;
+    rayTree.rays[i].normal = ns;
+    rayTree.rays[i].primitive = hit.primitive;
+    rayTree.rays[i].weight = weight;
+    rayTree.rays[i].material = prim.material;
+    rayTree.rays[i].shape = prim.shape;
+    rayTree.rays[i].frontFace = frontFace ? 1u : 0u;
+    rayTree.rays[i].ambient = local.ambient;
+    rayTree.rays[i].diffuse = local.diffuse;
+    rayTree.rays[i].specular = local.specular;
+    // Emission (issue 16): record it here, and add it to the contribution,
+    // once LocalShading carries it.
+    rayTree.rays[i].emission = vec3(0.0);
+    rayTree.rays[i].contribution = weight * (local.ambient + local.diffuse + local.specular);
+}
+
+#endif
