@@ -219,9 +219,7 @@ private:
                 diag_.fail(position, "a directional light has no <position>: its light comes from infinitely far, "
                                      "along its <direction>");
         } else {
-            if (!position) diag_.fail(e, "<light> is missing <position> (required for a " + std::string(typeName) +
-                                             " light)");
-            light.position = vector(diag_, position);
+            light.position = vector(diag_, l.required("position"));
         }
         light.color = colour(diag_, l.required("color"), kNonNegative);
         if (const XMLElement* intensity = l.optional("intensity"))
