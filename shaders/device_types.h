@@ -177,6 +177,10 @@ struct Primitive {
     uint extra1 WHITTED_ZERO;    // csg: its program's node count; else 0
 };
 
+// Material.flags bits.
+WHITTED_CONST uint kMaterialFresnel = 1u;       // kr is F0 of Schlick's approximation
+WHITTED_CONST uint kMaterialAmbientColor = 2u;  // the ambient term takes ambientColor instead of Cd
+
 // Phong + Whitted material.
 struct Material {
     vec3 diffuse WHITTED_ZERO;         // Cd
@@ -190,7 +194,7 @@ struct Material {
     float kr WHITTED_ZERO;
     float kt WHITTED_ZERO;
     float ior WHITTED_ZERO;
-    float pad2 WHITTED_ZERO;
+    uint flags WHITTED_ZERO;           // kMaterial* bits
     vec3 checkerColor WHITTED_ZERO;
     float checkerSize WHITTED_ZERO;    // 0: no checker
     vec3 checkerOrigin WHITTED_ZERO;   // the object's position, where a cell starts
@@ -205,6 +209,12 @@ struct Material {
     float normalStrength WHITTED_ZERO;
     float pad7 WHITTED_ZERO;
     float pad8 WHITTED_ZERO;
+    vec3 transmissionColor WHITTED_ZERO;  // tints refracted light and the shadow filter (white: none)
+    float pad9 WHITTED_ZERO;
+    vec3 emission WHITTED_ZERO;           // added where a ray hits the surface
+    float pad10 WHITTED_ZERO;
+    vec3 ambientColor WHITTED_ZERO;       // the ambient term's colour with kMaterialAmbientColor, else Cd
+    float pad11 WHITTED_ZERO;
 };
 
 // Per-primitive surface attributes (FrameParams.attributeAddress), in the
@@ -223,11 +233,28 @@ struct SurfaceAttributes {
     uint hasTangents WHITTED_ZERO;
 };
 
+// Light.type and Light.falloff (scenes/README.md "Lights").
+WHITTED_CONST uint kLightPoint = 0u;
+WHITTED_CONST uint kLightSpot = 1u;
+WHITTED_CONST uint kLightDirectional = 2u;  // no position: its shadow rays go to infinity
+WHITTED_CONST uint kFalloffNone = 0u;
+WHITTED_CONST uint kFalloffInverseSquare = 1u;
+
+// A light: what arrives at distance d is color (the scene's colour times
+// its intensity), divided by d^2 with kFalloffInverseSquare; a spot scales
+// it by saturate((cos theta - cosOuter) / (cosInner - cosOuter))^2, theta
+// the angle from its direction (KHR_lights_punctual).
 struct Light {
-    vec3 position WHITTED_ZERO;
+    vec3 position WHITTED_ZERO;   // point and spot
+    uint type WHITTED_ZERO;       // kLight*
+    vec3 color WHITTED_ZERO;      // colour times intensity
+    uint falloff WHITTED_ZERO;    // kFalloff*
+    vec3 direction WHITTED_ZERO;  // spot and directional: unit, the way the light travels
+    float cosInner WHITTED_ZERO;  // spot: cosines of the inner and outer cone angles
+    float cosOuter WHITTED_ZERO;
     float pad0 WHITTED_ZERO;
-    vec3 color WHITTED_ZERO;
     float pad1 WHITTED_ZERO;
+    float pad2 WHITTED_ZERO;
 };
 
 // A node of the flattened BVH (host/accel/bvh.h): its bounds lo..hi. An

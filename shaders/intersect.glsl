@@ -84,7 +84,7 @@ void testCsg(uint i, Ray ray, float tMax, const bool shadow, inout Hit hit, inou
             return;
         }
         vec3 cd = crossingColour(leaf, k, ray.origin + t * ray.dir, n);
-        transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd);
+        transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd) * materials[k].transmissionColor;
         opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
         tFrom = t;
     }
@@ -127,7 +127,7 @@ bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shad
         } else {
             // The pigment at the crossing, as POV-Ray's filter takes it.
             vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
-            transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd);
+            transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd) * materials[k].transmissionColor;
             opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
         }
     }
@@ -162,6 +162,9 @@ bool traverseList(Ray ray, float tMax, const bool shadow, inout Hit hit, inout v
 #include "bvh.glsl"
 #endif
 
+// The length of a shadow ray towards a directional light, "to infinity".
+const float kRayInfinity = 3.0e38;
+
 // Nearest hit in (0, tMax).
 bool traceClosest(Ray ray, float tMax, out Hit hit) {
     hit.t = tMax;
@@ -174,8 +177,8 @@ bool traceClosest(Ray ray, float tMax, out Hit hit) {
 
 // Light that reaches the end of a shadow ray of length tMax. An opaque
 // surface blocks it; every crossing of a transparent surface (kt > 0)
-// filters it by kt * mix(white, Cd, kd), so shadows take the colour of glass
-// as in the seed. Each surface crossing counts, so a glass sphere filters
+// filters it by kt * mix(white, Cd, kd) * Ct (Ct the transmission colour,
+// white by default), so shadows take the colour of glass as in the seed. Each surface crossing counts, so a glass sphere filters
 // twice (in and out), the same as a closed glass mesh. The product does not
 // depend on the order, so the BVH is walked without sorting and the walk
 // ends at the first opaque hit.

@@ -32,7 +32,7 @@ bool filterCrossing(uint i, Ray ray, float t, vec3 n, inout vec3 transmittance, 
     uint k = primitives[i].material;
     float kt = materials[k].kt;
     vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
-    transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd);
+    transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd) * materials[k].transmissionColor;
     opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
     return kt > 0.0;
 }

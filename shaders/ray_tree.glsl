@@ -111,7 +111,8 @@ void rayTreeShadowCrossings(inout RayTreeShadowRay s, Ray ray, float tMax) {
                 }
                 blocked = true;
             } else {
-                filterColour = kt * mix(vec3(1.0), crossingColour(leaf, k, ray.origin + t * ray.dir, n), materials[k].kd);
+                filterColour = kt * mix(vec3(1.0), crossingColour(leaf, k, ray.origin + t * ray.dir, n), materials[k].kd) *
+                               materials[k].transmissionColor;
                 transmittance *= filterColour;
                 opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
             }
@@ -196,9 +197,10 @@ void rayTreeShaded(Hit hit, Primitive prim, bool frontFace, vec3 p, vec3 ns, vec
     rayTree.rays[i].ambient = local.ambient;
     rayTree.rays[i].diffuse = local.diffuse;
     rayTree.rays[i].specular = local.specular;
-    // Emission (issue 16): record it here, and add it to the contribution,
-    // once LocalShading carries it.
-    rayTree.rays[i].emission = vec3(0.0);
+    // Emission: traceSamples adds it to local.ambient (it counts in the
+    // ambient component), so `ambient` includes it and `emission` says how
+    // much of it is emission.
+    rayTree.rays[i].emission = materials[prim.material].emission;
     rayTree.rays[i].contribution = weight * (local.ambient + local.diffuse + local.specular);
 }
 

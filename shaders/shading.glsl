@@ -14,14 +14,20 @@ struct LocalShading {
 #include "ray_tree.glsl"
 #endif
 
-// Ambient ka Cd A plus, per point light, its visibility (shadow ray) times
-// kd Cd max(N.L, 0) + ks Cs max(R.V, 0)^shininess. n is the shading normal,
+// Ambient ka Ca A (Ca the material's ambient colour, Cd without one) plus,
+// per light, its visibility (shadow ray) times its arriving light E times
+// kd Cd max(N.L, 0) + ks Cs max(R.V, 0)^shininess. E is the light's colour
+// (times intensity), over d^2 with inverse-square falloff, times a spot's
+// cone factor saturate((cos theta - cos outer) / (cos inner - cos outer))^2
+// (the KHR_lights_punctual formula); a directional light comes from -its
+// direction, its shadow ray running to infinity. n is the shading normal,
 // ng the geometric one; both face the viewer and p is already offset to the
 // viewer's side of the surface. A light behind the geometric surface gives
 // nothing even where the shading normal leans towards it.
 LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
     LocalShading s;
-    s.ambient = m.ka * m.diffuse * params.ambientLight;
+    vec3 ambientColor = (m.flags & kMaterialAmbientColor) != 0u ? m.ambientColor : m.diffuse;
+    s.ambient = m.ka * ambientColor * params.ambientLight;
     s.diffuse = vec3(0.0);
     s.specular = vec3(0.0);
     s.shadowRays = 0u;
@@ -31,11 +37,27 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
     lightCount = 0u;
 #endif
     for (uint i = 0u; i < lightCount; ++i) {
-        vec3 toLight = lights[i].position - p;
-        float dist = length(toLight);
-        vec3 l = toLight / dist;
+        uint type = lights[i].type;
+        vec3 l;
+        float dist;
+        float attenuation = 1.0;
+        if (type == kLightDirectional) {
+            l = -lights[i].direction;
+            dist = kRayInfinity;
+        } else {
+            vec3 toLight = lights[i].position - p;
+            dist = length(toLight);
+            l = toLight / dist;
+            if (lights[i].falloff == kFalloffInverseSquare) attenuation = 1.0 / (dist * dist);
+            if (type == kLightSpot) {
+                float cosOuter = lights[i].cosOuter;
+                float cone = clamp((dot(-l, lights[i].direction) - cosOuter) / (lights[i].cosInner - cosOuter),
+                                   0.0, 1.0);
+                attenuation *= cone * cone;
+            }
+        }
         float nDotL = dot(n, l);
-        if (nDotL <= 0.0 || dot(ng, l) <= 0.0 || (kd <= 0.0 && ks <= 0.0)) continue;
+        if (nDotL <= 0.0 || dot(ng, l) <= 0.0 || (kd <= 0.0 && ks <= 0.0) || attenuation <= 0.0) continue;
         s.shadowRays += 1u;
 #ifdef WHITTED_PROFILE_NO_SHADOWS  // tools/profile_shader.sh: what shadow rays cost
         vec3 visibility = vec3(1.0);
@@ -46,7 +68,7 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
         rayTreeShadowRay(i, Ray(p, l), dist, visibility, s.diffuse, s.specular);
 #endif
         if (all(equal(visibility, vec3(0.0)))) continue;
-        vec3 light = visibility * lights[i].color;
+        vec3 light = visibility * (lights[i].color * attenuation);
         s.diffuse += light * kd * m.diffuse * nDotL;
         if (ks > 0.0) {
             vec3 r = reflect(-l, n);

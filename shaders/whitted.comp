@@ -165,6 +165,9 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
 #endif
 
         LocalShading local = shadeLocal(m, pOutside, ns, n, -ray.dir);
+        // Emission is added where a ray hits the surface (it lights nothing
+        // else); it counts in the ambient component, the other constant term.
+        local.ambient += m.emission;
         rayCount.y += local.shadowRays;
         if (pending.depth == 0u) {  // weight 1 unless the camera is inside an absorbing object
             result.components[0] += pending.weight * local.ambient;
@@ -191,7 +194,26 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // would stay on the wrong side of the geometric surface fall back to
         // the geometric normal's.
         uint childDepth = pending.depth + 1u;
-        vec3 reflectWeight = kr * m.specular;
+        // With fresnel, kr is F0 of Schlick's approximation (Schlick 1994):
+        // F = kr + (1 - kr)(1 - cos theta)^5; the reflected ray weighs Cs F,
+        // the transmitted one kt (1 - F). Leaving the denser side, theta is
+        // the angle on the thinner side (F = 1 under total internal
+        // reflection), so F is the same both ways through a surface.
+        float transmitWeight = kt;
+        vec3 reflectWeight;
+        if ((m.flags & kMaterialFresnel) != 0u) {
+            float cosTheta = clamp(dot(-ray.dir, ns), 0.0, 1.0);
+            float eta = frontFace ? 1.0 / ior : ior;
+            if (kt > 0.0 && eta > 1.0) {
+                float sin2Transmitted = eta * eta * (1.0 - cosTheta * cosTheta);
+                cosTheta = sin2Transmitted >= 1.0 ? 0.0 : sqrt(1.0 - sin2Transmitted);
+            }
+            float f = kr + (1.0 - kr) * pow(1.0 - cosTheta, 5.0);
+            reflectWeight = f * m.specular;
+            transmitWeight = kt * (1.0 - f);
+        } else {
+            reflectWeight = kr * m.specular;
+        }
         // The children's cones start with this footprint; a curved surface
         // spreads them (paraxial optics, signed curvature k > 0 convex
         // towards the ray): a mirror adds 2 k w (focal length 1 / (2 k)),
@@ -203,15 +225,16 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             vec3 refracted = refract(ray.dir, ns, eta);
             if (dot(refracted, n) >= 0.0) refracted = refract(ray.dir, n, eta);
             if (all(equal(refracted, vec3(0.0)))) {
-                reflectWeight += vec3(kt);
+                reflectWeight += vec3(transmitWeight);
 #ifdef WHITTED_RAY_TREE
                 rayTreeTotalInternal();
 #endif
-            } else {
+            } else if (transmitWeight > 0.0) {
                 uint component = pending.depth == 0u ? kAovTransmission : pending.component;
                 vec2 cone = vec2(coneWidth, eta * pending.cone.y - (1.0 - eta) * curvature * coneWidth);
                 stack[top++] = PendingRay(Ray(offsetRay(p, -n), normalize(refracted)),
-                                          pending.weight * kt, childDepth, component, cone);
+                                          pending.weight * (transmitWeight * m.transmissionColor), childDepth,
+                                          component, cone);
 #ifdef WHITTED_RAY_TREE
                 rayTreePush(top - 1, kRayRefraction, stack[top - 1].ray, stack[top - 1].weight, childDepth);
 #endif

@@ -488,7 +488,8 @@ std::string nested(int depth) {
 const std::string kPropertyList =
     "type, refraction_coef, transmission_coef, specular_coef, diffuse_coef, ambiente_coef, reflective, shininess, "
     "reflection_coef, checker_color, checker_size, absorption, diffuse_texture, texture_scale, normal_map, "
-    "normal_strength, radius, height, axis, normal, size, vertex, polygons, file, scale, rotation, operation";
+    "normal_strength, fresnel, transmission_color, emission, ambient_color, radius, height, axis, normal, size, "
+    "vertex, polygons, file, scale, rotation, operation";
 
 std::vector<BadCase> xmlCases() {
     const std::string camera =
@@ -642,8 +643,9 @@ std::vector<BadCase> lightAndCameraCases() {
          "t.xml:3: attribute r of <color> must be >= 0, got -1"},
         {"UnknownInLight",
          withLights("<light><position x=\"0\" y=\"0\" z=\"0\"/><color r=\"1\" g=\"1\" b=\"1\"/>\n"
-                    "<intensity>2</intensity></light>"),
-         "t.xml:3: unknown element <intensity> in <light>; expected one of: position, color"},
+                    "<power>2</power></light>"),
+         "t.xml:3: unknown element <power> in <light>; expected one of: type, position, color, intensity, falloff, "
+         "direction, inner_angle, outer_angle, name"},
         {"NegativeAmbientLight", withLights("", "\n<ambient_light r=\"0\" g=\"-1\" b=\"0\"/>"),
          "t.xml:3: attribute g of <ambient_light> must be >= 0, got -1"},
         {"MissingWindow", withCamera("<position x=\"0\" y=\"0\" z=\"5\"/>"),
@@ -689,7 +691,7 @@ std::vector<BadCase> objectCases() {
         {"UnknownObjectChild",
          sceneWith(objectOf("sphere", "<radius>1</radius>", "<position x=\"0\" y=\"0\" z=\"0\"/><colour/>")),
          "t.xml:9: unknown element <colour> in <object>; expected one of: position, diffuse_color, specular_color, "
-         "properties, objects"},
+         "properties, objects, name"},
         {"DuplicateRadius", sphereWith("<radius>1</radius>\n<radius>2</radius>"),
          "t.xml:13: duplicate <radius> in <properties>"},
         {"MissingProperties", sceneWith("<object>\n<position x=\"0\" y=\"0\" z=\"0\"/></object>"),

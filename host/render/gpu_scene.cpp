@@ -16,7 +16,7 @@ static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, a) == 0 &
               offsetof(gpu::Primitive, b) == 16 && offsetof(gpu::Primitive, c) == 32 &&
               offsetof(gpu::Primitive, shape) == 48 && offsetof(gpu::Primitive, material) == 52 &&
               offsetof(gpu::Primitive, extra0) == 56 && offsetof(gpu::Primitive, extra1) == 60);
-static_assert(sizeof(gpu::Material) == 144 && offsetof(gpu::Material, diffuse) == 0 &&
+static_assert(sizeof(gpu::Material) == 192 && offsetof(gpu::Material, diffuse) == 0 &&
               offsetof(gpu::Material, specular) == 16 && offsetof(gpu::Material, ka) == 32 &&
               offsetof(gpu::Material, kd) == 36 && offsetof(gpu::Material, ks) == 40 &&
               offsetof(gpu::Material, shininess) == 44 && offsetof(gpu::Material, kr) == 48 &&
@@ -24,13 +24,17 @@ static_assert(sizeof(gpu::Material) == 144 && offsetof(gpu::Material, diffuse) =
               offsetof(gpu::Material, checkerColor) == 64 && offsetof(gpu::Material, checkerSize) == 76 &&
               offsetof(gpu::Material, checkerOrigin) == 80 && offsetof(gpu::Material, absorption) == 96 &&
               offsetof(gpu::Material, diffuseTexture) == 112 && offsetof(gpu::Material, normalMap) == 116 &&
-              offsetof(gpu::Material, textureScale) == 128 && offsetof(gpu::Material, normalStrength) == 132);
+              offsetof(gpu::Material, flags) == 60 && offsetof(gpu::Material, textureScale) == 128 &&
+              offsetof(gpu::Material, normalStrength) == 132 && offsetof(gpu::Material, transmissionColor) == 144 &&
+              offsetof(gpu::Material, emission) == 160 && offsetof(gpu::Material, ambientColor) == 176);
 static_assert(sizeof(gpu::SurfaceAttributes) == 48 && offsetof(gpu::SurfaceAttributes, uv0) == 0 &&
               offsetof(gpu::SurfaceAttributes, uv1) == 8 && offsetof(gpu::SurfaceAttributes, uv2) == 16 &&
               offsetof(gpu::SurfaceAttributes, tangents) == 32 &&
               offsetof(gpu::SurfaceAttributes, hasTangents) == 44);
-static_assert(sizeof(gpu::Light) == 32 && offsetof(gpu::Light, position) == 0 &&
-              offsetof(gpu::Light, color) == 16);
+static_assert(sizeof(gpu::Light) == 64 && offsetof(gpu::Light, position) == 0 && offsetof(gpu::Light, type) == 12 &&
+              offsetof(gpu::Light, color) == 16 && offsetof(gpu::Light, falloff) == 28 &&
+              offsetof(gpu::Light, direction) == 32 && offsetof(gpu::Light, cosInner) == 44 &&
+              offsetof(gpu::Light, cosOuter) == 48);
 static_assert(sizeof(gpu::BvhNode) == 32 && offsetof(gpu::BvhNode, lo) == 0 &&
               offsetof(gpu::BvhNode, first) == 12 && offsetof(gpu::BvhNode, hi) == 16 &&
               offsetof(gpu::BvhNode, primitiveCount) == 28);
@@ -93,6 +97,7 @@ gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const 
             .kr = float(m.reflection),
             .kt = float(m.transmission),
             .ior = float(m.ior),
+            .flags = (m.fresnel ? gpu::kMaterialFresnel : 0u) | (m.ambientColor ? gpu::kMaterialAmbientColor : 0u),
             .checkerColor = glm::vec3(m.checkerColor),
             .checkerSize = float(m.checkerSize),
             .checkerOrigin = glm::vec3(m.checkerOrigin),
@@ -100,7 +105,22 @@ gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const 
             .diffuseTexture = textureSlot(m.diffuseTexture, textures),
             .normalMap = textureSlot(m.normalMap, textures),
             .textureScale = float(m.textureScale),
-            .normalStrength = float(m.normalStrength)};
+            .normalStrength = float(m.normalStrength),
+            .transmissionColor = glm::vec3(m.transmissionColor),
+            .emission = glm::vec3(m.emission),
+            .ambientColor = glm::vec3(m.ambientColor.value_or(glm::dvec3(0)))};
+}
+
+// The light as the shader's loop takes it (shaders/shading.glsl).
+gpu::Light packLight(const Light& l) {
+    constexpr uint32_t kTypes[] = {gpu::kLightPoint, gpu::kLightSpot, gpu::kLightDirectional};
+    return {.position = glm::vec3(l.position),
+            .type = kTypes[int(l.type)],
+            .color = glm::vec3(l.color * l.intensity),
+            .falloff = l.falloff == Light::Falloff::InverseSquare ? gpu::kFalloffInverseSquare : gpu::kFalloffNone,
+            .direction = glm::vec3(glm::normalize(l.direction)),
+            .cosInner = float(std::cos(glm::radians(l.innerAngleDegrees))),
+            .cosOuter = float(std::cos(glm::radians(l.outerAngleDegrees)))};
 }
 
 // Whether a mesh object needs per-triangle surface attributes.
@@ -239,7 +259,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     g.primitives.insert(g.primitives.end(), csg.leaves.begin(), csg.leaves.end());
     g.csgNodes = std::move(csg.nodes);
     for (const Light& light : scene.lights)
-        g.lights.push_back({.position = glm::vec3(light.position), .color = glm::vec3(light.color)});
+        g.lights.push_back(packLight(light));
 
     packCamera(scene.camera, g.width, g.height, g.params);
     g.params.ambientLight = glm::vec3(scene.ambientLight);

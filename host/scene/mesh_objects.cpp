@@ -212,6 +212,7 @@ std::vector<Object> splitByFileMaterial(Object whole, const FileMaterials& fileM
     for (uint32_t k = 0; k < materials.size(); ++k) {
         Object part;
         part.sourceLine = whole.sourceLine;
+        part.name = whole.name;
         part.material = whole.material;
         part.material.diffuseColor = materials[k].baseColour;
         Mesh piece;

@@ -190,6 +190,51 @@ struct ShapeWriter {
     }
 };
 
+// Inverse-square falloff as POV-Ray's fade (see the header): a fade
+// distance far below any distance to a lit surface, the colour scaled up.
+constexpr double kFadeDistance = 1e-4;
+// A spot's cone as this many spotlights (see the header).
+constexpr int kSpotPieces = 16;
+// How far back a directional light's parallel source is placed: beyond the
+// format's coordinates (scene/xml_reader.h, kMaxMagnitude 1e6).
+constexpr double kParallelDistance = 1e7;
+
+// One light of ours as POV-Ray light_source blocks. POV-Ray's default
+// fade_power 0 means no falloff, as ours without <falloff>.
+std::string lightSource(const Light& light) {
+    std::ostringstream s;
+    glm::dvec3 colour = light.color * light.intensity;
+    bool inverseSquare = light.falloff == Light::Falloff::InverseSquare && light.type != Light::Type::Directional;
+    std::string fade;
+    if (inverseSquare) {
+        colour /= 2.0 * kFadeDistance * kFadeDistance;
+        fade = " fade_distance " + num(kFadeDistance) + " fade_power 2";
+    }
+    glm::dvec3 direction = glm::normalize(light.direction);
+    if (light.type == Light::Type::Point) {
+        s << "light_source { " << vec(light.position) << " color rgb " << vec(colour) << fade << " }\n";
+    } else if (light.type == Light::Type::Directional) {
+        glm::dvec3 location = -direction * kParallelDistance;
+        s << "light_source { " << vec(location) << " color rgb " << vec(colour) << " parallel point_at "
+          << vec(location + direction) << " }\n";
+    } else {
+        // Piece k ramps from 0 at s_k = k/N to 1 at s_k+1 (s the normalised
+        // cosine of the KHR formula), weighted s_k+1^2 - s_k^2: the pieces
+        // sum to 1 inside the inner cone.
+        double cosInner = std::cos(glm::radians(light.innerAngleDegrees));
+        double cosOuter = std::cos(glm::radians(light.outerAngleDegrees));
+        auto angleAt = [&](double sk) { return glm::degrees(std::acos(cosOuter + sk * (cosInner - cosOuter))); };
+        s << "// a spot light: " << kSpotPieces << " spotlights\n";
+        for (int k = 0; k < kSpotPieces; ++k) {
+            double lo = double(k) / kSpotPieces, hi = double(k + 1) / kSpotPieces;
+            s << "light_source { " << vec(light.position) << " color rgb " << vec(colour * (hi * hi - lo * lo))
+              << " spotlight point_at " << vec(light.position + direction) << " radius " << num(angleAt(hi))
+              << " falloff " << num(angleAt(lo)) << " tightness 0" << fade << " }\n";
+        }
+    }
+    return s.str();
+}
+
 }  // namespace
 
 std::string exportPovray(const Scene& scene, const PovrayExportOptions& options) {
@@ -236,9 +281,7 @@ std::string exportPovray(const Scene& scene, const PovrayExportOptions& options)
       << "  up " << vec(up * (2.0 * tanHalf)) << "\n"
       << "}\n\n";
 
-    // Point lights; POV-Ray's default fade_power 0 means no falloff.
-    for (const Light& light : scene.lights)
-        s << "light_source { " << vec(light.position) << " color rgb " << vec(light.color) << " }\n";
+    for (const Light& light : scene.lights) s << lightSource(light);
     s << "\n";
 
     for (const Object& object : scene.objects) {
@@ -278,6 +321,18 @@ std::vector<std::string> povrayInexactMappings(const Scene& scene) {
                                 ": an image texture on a shape other than a sphere or a mesh, from a model file's "
                                 "embedded image, or with a diffuse_color other than white (exported untextured)");
             if (m.normalMap) notes.push_back(where(scene, object) + ": a normal map (not exported)");
+            if (m.fresnel)
+                notes.push_back(where(scene, object) +
+                                ": fresnel (Schlick's approximation here, the full Fresnel equations in POV-Ray; "
+                                "not exported)");
+            if (m.transmissionColor != glm::dvec3(1.0))
+                notes.push_back(where(scene, object) + ": a transmission_color (not exported)");
+            if (m.emission != glm::dvec3(0.0))
+                notes.push_back(where(scene, object) +
+                                ": emission (POV-Ray's finish emission is multiplied by the pigment; not exported)");
+            if (m.ambientColor)
+                notes.push_back(where(scene, object) +
+                                ": an ambient_color (POV-Ray's ambient is multiplied by the pigment; not exported)");
             if (m.transmission > 0.0)
                 notes.push_back(where(scene, object) +
                                 ": transmission (POV-Ray dims the local terms by the pigment's opacity and filters "

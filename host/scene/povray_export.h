@@ -12,6 +12,18 @@
 //   kr·Cs·reflected    finish reflection { rgb kr·Cs } (min = max, no
 //                      fresnel, falloff 1, exponent 1, not metallic)
 //   point lights       light_source without fade: no falloff, like ours
+//   inverse square     fade_distance D fade_power 2, colour c/(2 D^2): POV-Ray
+//                      gives c/(2 D^2)·2/(1 + (d/D)^2) = c/(D^2 + d^2), with
+//                      D = 1e-4 within a relative 1e-8/d^2 of c/d^2
+//   directional        parallel, located 1e7 back along the direction (past
+//                      every finite object, so all of them cast shadows)
+//   spot               POV-Ray's spotlight ramps by a smoothstep 3s^2 - 2s^3
+//                      between its falloff and radius cosines, not by our s^2;
+//                      exported as 16 spotlights at the same place whose
+//                      ramps tile [cos outer, cos inner] (tightness 0), each
+//                      weighted by the rise of s^2 over its ramp: within
+//                      0.0123 of the light's full strength everywhere, exact
+//                      inside the inner cone and outside the outer one
 //   recursion          max_trace_level D+1 (POV-Ray counts the camera ray
 //                      as level 1; we count secondary bounces), adc_bailout 0
 //   shadows of glass   pigment { rgbft <Cd, kt·kd, kt·(1-kd)> }: POV-Ray

@@ -36,6 +36,9 @@ constexpr double kParallelTolerance = 1e-6;
 constexpr Range kIorRange{0.1, 10, false, false};
 constexpr Range kShininessRange{0, 1e5, true, false};
 constexpr Range kFovRange{0, 180, true, true};
+// A spot's cone: 0 <= inner < outer <= 90 degrees.
+constexpr Range kInnerAngleRange{0, 90, false, true};
+constexpr Range kOuterAngleRange{0, 90, true, false};
 
 // ---- Geometry checks -------------------------------------------------------------
 
@@ -54,7 +57,8 @@ const std::vector<std::string_view> kObjectMaterialElements = {"diffuse_color", 
 const std::vector<std::string_view> kMaterialProperties = {
     "refraction_coef", "transmission_coef", "specular_coef", "diffuse_coef", "ambiente_coef", "reflective",
     "shininess",       "reflection_coef",   "checker_color", "checker_size", "absorption",
-    "diffuse_texture", "texture_scale",   "normal_map",    "normal_strength"};
+    "diffuse_texture", "texture_scale",   "normal_map",    "normal_strength", "fresnel",
+    "transmission_color", "emission", "ambient_color"};
 
 // <properties>: the seed's material elements, the extensions, then the
 // shape elements (each applies to some types only; see readShape).
@@ -74,6 +78,10 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"texture_scale"},
                                                {"normal_map"},
                                                {"normal_strength"},
+                                               {"fresnel"},
+                                               {"transmission_color"},
+                                               {"emission"},
+                                               {"ambient_color"},
                                                {"radius"},
                                                {"height"},
                                                {"axis"},
@@ -183,13 +191,91 @@ private:
 
     void readLights(const XMLElement* e) {
         ElementReader lights(diag_, e, {{"light", true}});
-        for (const XMLElement* light : lights.all("light")) {
-            ElementReader l(diag_, light, {{"position"}, {"color"}});
-            glm::dvec3 position = vector(diag_, l.required("position"));
-            glm::dvec3 color = colour(diag_, l.required("color"), kNonNegative);
-            scene_.lights.push_back({.position = position, .color = color, .sourceLine = light->GetLineNum()});
-        }
+        for (const XMLElement* light : lights.all("light")) scene_.lights.push_back(readLight(light));
         if (scene_.lights.empty()) diag_.warn(e, "scene has no lights; only ambient light will show");
+    }
+
+    // A point light (the seed's), a spot or a directional light
+    // (scenes/README.md "Lights"). Each type takes only the elements it
+    // uses; the rest are refused as not applying to it.
+    Light readLight(const XMLElement* e) const {
+        ElementReader l(diag_, e,
+                        {{"type"},
+                         {"position"},
+                         {"color"},
+                         {"intensity"},
+                         {"falloff"},
+                         {"direction"},
+                         {"inner_angle"},
+                         {"outer_angle"},
+                         {"name"}});
+        Light light;
+        light.sourceLine = e->GetLineNum();
+        if (const XMLElement* type = l.optional("type")) {
+            std::string t = valueText(diag_, type);
+            if (t == "point")
+                light.type = Light::Type::Point;
+            else if (t == "spot")
+                light.type = Light::Type::Spot;
+            else if (t == "directional")
+                light.type = Light::Type::Directional;
+            else
+                diag_.fail(type, "<type> of a light must be point, spot or directional, got " + inQuotes(t));
+        }
+        const char* typeName = light.type == Light::Type::Point ? "point"
+                               : light.type == Light::Type::Spot ? "spot"
+                                                                 : "directional";
+        auto notApplying = [&](const XMLElement* element, const std::string& why) {
+            diag_.fail(element, tag(element->Name()) + " does not apply to a " + typeName + " light; " + why);
+        };
+
+        const XMLElement* position = l.optional("position");
+        if (light.type == Light::Type::Directional) {
+            if (position)
+                diag_.fail(position, "a directional light has no <position>: its light comes from infinitely far, "
+                                     "along its <direction>");
+        } else {
+            light.position = vector(diag_, l.required("position"));
+        }
+        light.color = colour(diag_, l.required("color"), kNonNegative);
+        if (const XMLElement* intensity = l.optional("intensity"))
+            light.intensity = number(diag_, intensity, kNonNegative);
+        if (const XMLElement* falloff = l.optional("falloff")) {
+            if (light.type == Light::Type::Directional)
+                notApplying(falloff, "its light does not weaken with distance");
+            std::string f = valueText(diag_, falloff);
+            if (f == "none")
+                light.falloff = Light::Falloff::None;
+            else if (f == "inverse_square")
+                light.falloff = Light::Falloff::InverseSquare;
+            else
+                diag_.fail(falloff, "<falloff> must be none or inverse_square, got " + inQuotes(f));
+        }
+
+        const XMLElement* direction = l.optional("direction");
+        if (light.type == Light::Type::Point) {
+            if (direction) notApplying(direction, "only spot and directional lights have one");
+        } else {
+            if (!direction)
+                diag_.fail(e, "<light> is missing <direction> (required for a " + std::string(typeName) + " light)");
+            light.direction = xml::direction(diag_, direction);
+        }
+
+        const XMLElement* inner = l.optional("inner_angle");
+        const XMLElement* outer = l.optional("outer_angle");
+        if (light.type != Light::Type::Spot) {
+            if (const XMLElement* angle = inner ? inner : outer) notApplying(angle, "only a spot light has a cone");
+        } else {
+            if (inner) light.innerAngleDegrees = number(diag_, inner, kInnerAngleRange);
+            if (outer) light.outerAngleDegrees = number(diag_, outer, kOuterAngleRange);
+            if (!(light.innerAngleDegrees < light.outerAngleDegrees))
+                diag_.fail(outer ? outer : inner, "<outer_angle> (" + showBound(light.outerAngleDegrees) +
+                                                      ") must be greater than <inner_angle> (" +
+                                                      showBound(light.innerAngleDegrees) +
+                                                      "); a spot has 0 <= inner < outer <= 90 degrees");
+        }
+        if (const XMLElement* name = l.optional("name")) light.name = valueText(diag_, name);
+        return light;
     }
 
     // ---- Objects ----
@@ -215,7 +301,12 @@ private:
     // material of the file (a csg child is one object: meshes are refused there).
     std::vector<Object> readObject(const XMLElement* e, const CsgParent* csg = nullptr) {
         ElementReader object(diag_, e,
-                             {{"position"}, {"diffuse_color"}, {"specular_color"}, {"properties"}, {"objects"}});
+                             {{"position"},
+                              {"diffuse_color"},
+                              {"specular_color"},
+                              {"properties"},
+                              {"objects"},
+                              {"name"}});
         ElementReader properties(diag_, object.required("properties"), kPropertyRules);
         fileMaterials_ = FileMaterials();
         fileMaterials_.wanted = !e->FirstChildElement("diffuse_color") &&
@@ -235,6 +326,7 @@ private:
 
         Object result;
         result.sourceLine = e->GetLineNum();
+        if (const XMLElement* name = object.optional("name")) result.name = valueText(diag_, name);
         bool ownMaterial = !csg || hasMaterial(e);
         result.material = ownMaterial ? readMaterial(object, properties) : *csg->material;
         if (type == "csg") {
@@ -397,6 +489,12 @@ private:
             m.checkerSize = number(diag_, checkerSize, kPositive);
         }
         if (const XMLElement* a = properties.optional("absorption")) m.absorption = colour(diag_, a, kNonNegative);
+        // The additions for authored scenes (scenes/README.md "Materials").
+        if (const XMLElement* f = properties.optional("fresnel")) m.fresnel = boolean(diag_, f);
+        if (const XMLElement* c = properties.optional("transmission_color"))
+            m.transmissionColor = colour(diag_, c, kUnitInterval);
+        if (const XMLElement* c = properties.optional("emission")) m.emission = colour(diag_, c, kNonNegative);
+        if (const XMLElement* c = properties.optional("ambient_color")) m.ambientColor = colour(diag_, c, kUnitInterval);
         return m;
     }
 

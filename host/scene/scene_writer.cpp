@@ -53,6 +53,10 @@ void writeCamera(XmlOut& x, const Camera& c) {
     x.close("camera");
 }
 
+// A light; what is the default (a point light of intensity 1 without
+// falloff: the seed's) is left out, so the seed's lights read as before.
+void writeLight(XmlOut& x, const Light& l);
+
 // Where the scene came from and where its text goes: file paths in it
 // (textures, model files) are written relative to the destination's folder.
 struct FilePlaces {
@@ -96,6 +100,11 @@ void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& pla
         x.value("checker_size", m.checkerSize);
     }
     if (m.absorption != glm::dvec3(0)) x.colour("absorption", m.absorption);
+    // The additions for authored scenes, only where they are not the default.
+    if (m.fresnel) x.value("fresnel", "true");
+    if (m.transmissionColor != glm::dvec3(1)) x.colour("transmission_color", m.transmissionColor);
+    if (m.emission != glm::dvec3(0)) x.colour("emission", m.emission);
+    if (m.ambientColor) x.colour("ambient_color", *m.ambientColor);
     // Texture files, relative to the written file's folder. (A model file's
     // own texture has no path to write: the file is written again as its
     // <file>, without a colour, and brings it back.)
@@ -105,6 +114,24 @@ void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& pla
         x.value("normal_map", textureText(m.normalMap, places));
         x.value("normal_strength", m.normalStrength);
     }
+}
+
+void writeLight(XmlOut& x, const Light& l) {
+    x.open("light");
+    if (l.type == Light::Type::Spot) x.value("type", "spot");
+    if (l.type == Light::Type::Directional) x.value("type", "directional");
+    if (!l.name.empty()) x.value("name", escapedXml(l.name));
+    if (l.type != Light::Type::Directional) x.vector("position", l.position);
+    x.colour("color", l.color);
+    if (l.intensity != 1.0) x.value("intensity", l.intensity);
+    if (l.falloff == Light::Falloff::InverseSquare && l.type != Light::Type::Directional)
+        x.value("falloff", "inverse_square");
+    if (l.type != Light::Type::Point) x.vector("direction", l.direction);
+    if (l.type == Light::Type::Spot) {
+        x.value("inner_angle", l.innerAngleDegrees);
+        x.value("outer_angle", l.outerAngleDegrees);
+    }
+    x.close("light");
 }
 
 // Vertices relative to `origin`, the <position> written for the object.
@@ -118,14 +145,14 @@ void writeTriangleVertices(XmlOut& x, const Triangle& t, const glm::dvec3& origi
 // child, its position relative to the csg object's (origin) and its
 // material written only when it has its own.
 void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin,
-                 const FilePlaces& places);
+                 const FilePlaces& places, const std::string& name = {});
 
 void writeObject(XmlOut& x, const Object& o, const FilePlaces& places) {
-    writeObject(x, o.shape, o.material, true, glm::dvec3(0), places);
+    writeObject(x, o.shape, o.material, true, glm::dvec3(0), places, o.name);
 }
 
 void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMaterial, const glm::dvec3& origin,
-                 const FilePlaces& places) {
+                 const FilePlaces& places, const std::string& name) {
     const Mesh* mesh = std::get_if<Mesh>(&shape);
     const Mesh::FileSource* source = mesh && mesh->source ? &*mesh->source : nullptr;
     // A model file split by its own materials: written once, by its first
@@ -133,6 +160,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
     if (source && source->part > 0) return;
     bool fileMaterials = source && source->part == 0;
     x.open("object");
+    if (!name.empty()) x.value("name", escapedXml(name));
     // Triangles and meshes are written in world space without a position,
     // unless their checker is anchored elsewhere: then at the checker's
     // origin, vertices relative to it.
@@ -234,12 +262,7 @@ std::string sceneXml(const Scene& scene, const std::filesystem::path& destinatio
     writeCamera(x, scene.camera);
     x.colour("ambient_light", scene.ambientLight);
     x.open("lights");
-    for (const Light& l : scene.lights) {
-        x.open("light");
-        x.vector("position", l.position);
-        x.colour("color", l.color);
-        x.close("light");
-    }
+    for (const Light& l : scene.lights) writeLight(x, l);
     x.close("lights");
     x.open("objects");
     FilePlaces places{scene.sourcePath.parent_path(), destination};

@@ -123,7 +123,10 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
     if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen))
         for (int i = 0; i < int(scene.lights.size()); ++i) {
             char label[32];
-            std::snprintf(label, sizeof label, "light %d", i);
+            static const char* kTypes[] = {"point", "spot", "directional"};
+            std::snprintf(label, sizeof label, "light %d: %s", i,
+                          scene.lights[i].name.empty() ? kTypes[int(scene.lights[i].type)]
+                                                       : scene.lights[i].name.c_str());
             if (ImGui::Selectable(label, state.selectedLight == i)) {
                 state.selectedLight = i;
                 state.selectedObject = -1;
@@ -132,8 +135,12 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
     if (ImGui::CollapsingHeader("Objects", ImGuiTreeNodeFlags_DefaultOpen))
         for (int i = 0; i < int(scene.objects.size()); ++i) {
             const Object& o = scene.objects[i];
-            char label[64];
-            std::snprintf(label, sizeof label, "%d: %s (line %d)", i, shapeName(o.shape), o.sourceLine);
+            char label[96];
+            if (o.name.empty())
+                std::snprintf(label, sizeof label, "%d: %s (line %d)", i, shapeName(o.shape), o.sourceLine);
+            else
+                std::snprintf(label, sizeof label, "%d: %s, %s (line %d)", i, o.name.c_str(), shapeName(o.shape),
+                              o.sourceLine);
             if (ImGui::Selectable(label, state.selectedObject == i)) {
                 state.selectedObject = i;
                 state.selectedLight = -1;
@@ -144,12 +151,46 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
     if (state.selectedLight >= 0 && state.selectedLight < int(scene.lights.size())) {
         Light& l = scene.lights[state.selectedLight];
         ImGui::Text("light %d", state.selectedLight);
-        result.changed |= editVector("position", l.position, 0.02f);
+        // The light's type and what it uses (scenes/README.md "Lights"); the
+        // ranges are the loader's, so that Save writes a loadable file.
+        int type = int(l.type);
+        if (ImGui::Combo("type", &type, "point\0spot\0directional\0")) {
+            l.type = Light::Type(type);
+            result.changed = true;
+        }
+        if (l.type != Light::Type::Directional) result.changed |= editVector("position", l.position, 0.02f);
         result.changed |= editColour("colour", l.color, true);
+        float intensity = float(l.intensity);
+        if (ImGui::DragFloat("intensity", &intensity, 0.01f, 0.0f, 1e5f)) {
+            l.intensity = std::max(double(intensity), 0.0);
+            result.changed = true;
+        }
+        if (l.type != Light::Type::Directional) {
+            bool inverseSquare = l.falloff == Light::Falloff::InverseSquare;
+            if (ImGui::Checkbox("inverse-square falloff", &inverseSquare)) {
+                l.falloff = inverseSquare ? Light::Falloff::InverseSquare : Light::Falloff::None;
+                result.changed = true;
+            }
+        }
+        if (l.type != Light::Type::Point) {
+            glm::dvec3 d = l.direction;
+            if (editVector("direction", d, 0.01f) && glm::length(d) > 1e-6) {
+                l.direction = glm::normalize(d);
+                result.changed = true;
+            }
+        }
+        if (l.type == Light::Type::Spot) {
+            result.changed |= editScalar("inner angle", l.innerAngleDegrees, 0, 89.9);
+            result.changed |= editScalar("outer angle", l.outerAngleDegrees, 0.1, 90);
+            // 0 <= inner < outer <= 90: the outer angle gives way.
+            if (l.outerAngleDegrees <= l.innerAngleDegrees)
+                l.outerAngleDegrees = std::min(l.innerAngleDegrees + 0.1, 90.0);
+        }
     } else if (state.selectedObject >= 0 && state.selectedObject < int(scene.objects.size())) {
         Object& o = scene.objects[state.selectedObject];
         Material& m = o.material;
         ImGui::Text("object %d: %s", state.selectedObject, shapeName(o.shape));
+        if (!o.name.empty()) ImGui::TextUnformatted(o.name.c_str());
         const glm::dvec3 before = shapeReferencePoint(o.shape);
         const Mesh* mesh = std::get_if<Mesh>(&o.shape);
         bool filePart = mesh && mesh->source && mesh->source->part >= 0;
@@ -208,6 +249,16 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         }
         // Beer-Lambert sigma per unit length (<absorption>): any value >= 0.
         result.changed |= editColour("absorption", m.absorption, true);
+        // The additions for authored scenes (scenes/README.md "Materials").
+        if (ImGui::Checkbox("fresnel (kr is F0)", &m.fresnel)) result.changed = true;
+        result.changed |= editColour("transmission colour", m.transmissionColor, false);
+        result.changed |= editColour("emission", m.emission, true);
+        bool ambientColour = m.ambientColor.has_value();
+        if (ImGui::Checkbox("own ambient colour", &ambientColour)) {
+            m.ambientColor = ambientColour ? std::optional<glm::dvec3>(m.diffuseColor) : std::nullopt;
+            result.changed = true;
+        }
+        if (m.ambientColor) result.changed |= editColour("ambient colour", *m.ambientColor, false);
         // Texture controls (scenes/README.md "Textures"): a plane's repeat length, a
         // normal map's strength.
         if (std::holds_alternative<Plane>(o.shape) && (m.diffuseTexture || m.normalMap)) {
