@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
     CLI::App app{"whitted: a Whitted-style ray tracer on Vulkan compute"};
     app.set_version_flag("--version", std::string("whitted ") + WHITTED_VERSION);
     app.require_subcommand(1);
-    const Command commands[] = {addRenderCommand(app), addDevicesCommand(app), addViewCommand(app)};
+    const Command commands[] = {addRenderCommand(app), addDevicesCommand(app), addViewCommand(app), addConvertCommand(app)};
 
     try {
         app.parse(argc, argv);

@@ -1,6 +1,6 @@
 // The command-line verbs. Each sets up its own options on the CLI11 app
 // beside its code (render_command.cpp, view_command.cpp,
-// devices_command.cpp); main.cpp only registers them, parses and calls the
+// devices_command.cpp, convert_command.cpp); main.cpp only registers them, parses and calls the
 // one given.
 #pragma once
 
@@ -28,5 +28,6 @@ struct Command {
 Command addRenderCommand(CLI::App& app);
 Command addDevicesCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);
+Command addConvertCommand(CLI::App& app);
 
 }  // namespace whitted
