@@ -252,7 +252,7 @@ def image_writer(pixels, colour, full=None):
         h, wd, c = pixels.shape
         is_float = pixels.dtype.kind == "f"
         is_uint32 = pixels.dtype == "uint32"
-        spec = oiio.ImageSpec(wd, h, c, "float" if is_float else "uint32" if is_uint32 else "uint8")
+        spec = oiio.ImageSpec(wd, h, c, "float" if is_float else "uint" if is_uint32 else "uint8")
         if not is_float and not is_uint32 and colour:
             spec.attribute("oiio:ColorSpace", "sRGB")
         if is_float or is_uint32:
@@ -381,7 +381,7 @@ def run_tiles(client, job, args, a):
         res = results[k * per_tile]
         for name, (path, colour, arr) in list(images.items()):
             ids = ext == ".exr" and name.split(".")[1] in ID_AOVS
-            px, _, _ = decode(res["files"][name], ext, "uint32" if ids else fmt)
+            px, _, _ = decode(res["files"][name], ext, "uint" if ids else fmt)
             if arr is None:
                 arr = np.zeros((height, width, px.shape[2]), np.uint32 if ids else dtype)
                 images[name] = (path, colour, arr)
