@@ -13,7 +13,7 @@ int main(int argc, char** argv) {
     app.set_version_flag("--version", std::string("whitted ") + WHITTED_VERSION);
     app.require_subcommand(1);
     const Command commands[] = {addRenderCommand(app), addDevicesCommand(app), addViewCommand(app),
-                              addTraceCommand(app)};
+                                addTraceCommand(app), addConvertCommand(app)};
 
     try {
         app.parse(argc, argv);

@@ -120,6 +120,11 @@ WHITTED_CONST uint kAovCount = 9;
 // last of each holds every depth >= B, so they add up to kAovReflection and
 // kAovTransmission. w: the samples taken, as in the colour layers.
 WHITTED_CONST uint kAovBouncesMax = 16;
+// The object and material masks (README "Auxiliary images"), only in a
+// render that asks for them (kOptionWriteIds): one layer after the split
+// ones whose x and y hold, as uint bits, the object and material index of
+// what the pixel-centre ray hits first (kNoObject: nothing), written once by
+// the pixel's first dispatch and never summed or divided by the host.
 
 // Capacity of the explicit ray stack; a Whitted tree traversed depth first
 // never holds more than maxDepth + 1 pending rays.
@@ -155,6 +160,7 @@ WHITTED_CONST uint kOptionWriteAovs = 1u;
 // Bits 8..15: the number B of split reflection/transmission layers (0: none).
 WHITTED_CONST uint kOptionAovBouncesShift = 8u;
 WHITTED_CONST uint kOptionTextureLodZero = 2u;  // sample textures at mip level 0 (tests of the ray-cone LOD)
+WHITTED_CONST uint kOptionWriteIds = 4u;        // write the id layer (object and material masks)
 
 // One geometric primitive. Meaning of a, b, c by shape (each shape's
 // functions in shaders/shapes/ name them):
@@ -174,7 +180,10 @@ struct Primitive {
     uint shape WHITTED_ZERO;     // kShape* tag
     uint material WHITTED_ZERO;  // index into Material[]
     uint extra0 WHITTED_ZERO;    // triangle: kTriangleSmooth or 0; csg: its program's first CsgNode
-    uint extra1 WHITTED_ZERO;    // csg: its program's node count; else 0
+    // csg: its program's node count; every other primitive (csg leaves
+    // too, which are what a hit reports): the index of its object in the
+    // scene's object list, the object_id mask (host/render/gpu_scene.cpp)
+    uint extra1 WHITTED_ZERO;
 };
 
 // Material.flags bits.
@@ -464,6 +473,7 @@ WHITTED_CONST uint kDisplayColor = 0;   // a colour layer: mean, clamp, sRGB
 WHITTED_CONST uint kDisplayScalar = 1;  // one channel's mean times scalarScale
 WHITTED_CONST uint kDisplayDepth = 2;   // m / (m + d), m = depthMedian
 WHITTED_CONST uint kDisplayNormal = 3;  // n / 2 + 0.5
+WHITTED_CONST uint kDisplayId = 4;      // the id in channel `channel` of the id layer, as idColorRgb8
 
 // Push constants of the display pass.
 struct DisplayParams {
@@ -480,6 +490,21 @@ struct DisplayParams {
     float exposure WHITTED_ZERO;  // kDisplayColor: the mean is scaled by 2^exposure before encoding (--exposure)
     float pad4 WHITTED_ZERO;
 };
+
+// The colour of a mask id in 8-bit files and the window: a fixed hash of the
+// id (pcg, as hashPcg in shaders/sampling.glsl), each channel in 64..255 so
+// that no object is as black as the background (kNoObject). Packed
+// r | g << 8 | b << 16.
+#ifdef __cplusplus
+inline
+#endif
+uint idColorRgb8(uint id) {
+    if (id == kNoObject) return 0u;
+    uint state = id * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    word = (word >> 22u) ^ word;
+    return (word & 0xbfbfbfu) + 0x404040u;
+}
 
 #ifdef __cplusplus
 }  // namespace whitted::gpu

@@ -30,6 +30,11 @@ void main() {
     float samples = sums[kAovColor * count + index].w;
     vec4 s = sums[display.layer * count + index];
     vec3 shown = vec3(0.0);
+    if (display.kind == kDisplayId) {  // uint bits, written once (not sums)
+        uint rgb = samples > 0.0 ? idColorRgb8(floatBitsToUint(s[display.channel])) : 0u;
+        pixels[index] = rgb | (255u << 24);
+        return;
+    }
     if (samples > 0.0) {
         if (display.kind == kDisplayColor) {
             vec3 mean = s.rgb / samples * exp2(display.exposure);

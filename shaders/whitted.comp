@@ -324,6 +324,22 @@ void main() {
             accumulate(kAovCoefs0, outPixels, o, result.coefs0, overwrite);
             accumulate(kAovCoefs1, outPixels, o, result.coefs1, overwrite);
         }
+        // The object and material masks: what the ray through the pixel's
+        // centre hits first, traced once, by the dispatch that holds the
+        // pixel's sample 0 (the adaptive refinements' lists never do), and
+        // stored, not summed, so no sample pattern or filter blends ids.
+        // This probe is not counted among the camera rays.
+        if ((params.options & kOptionWriteIds) != 0u && first == 0u && (flags & kTileList) == 0u) {
+            vec2 size = vec2(params.width, params.height);
+            Ray ray = generateCameraRay(vec2(pixel) + vec2(0.5), size, params.eye, params.forward, params.right,
+                                        params.up, params.projection);
+            Hit hit;
+            uvec2 ids = uvec2(kNoObject);
+            if (traceClosest(ray, 3.0e38, hit))
+                ids = uvec2(primitives[hit.primitive].extra1, primitives[hit.primitive].material);
+            uint idLayer = kAovCount + 2u * (params.options >> kOptionAovBouncesShift);
+            outputLayers[idLayer * outPixels + o] = vec4(uintBitsToFloat(ids.x), uintBitsToFloat(ids.y), 0.0, 0.0);
+        }
     }
     if ((flags & kTileGuide) != 0u) {
         uvec2 g = pixel - tileParams.guideOrigin;

@@ -127,6 +127,25 @@ def split_aovs():
             same(os.path.join(d, "ref" + suffix + ext), os.path.join(d, "farm" + suffix + ext))
 
 
+def masks():
+    """The object and material masks merge unblended: EXR UINT channels and PNG hash colours equal a single render's,
+    with adaptive anti-aliasing (the default) and tiles that cut through objects."""
+    d = os.path.join(work, "masks")
+    os.makedirs(d, exist_ok=True)
+    scene = os.path.join(ROOT, "scenes", "showcase.xml")
+    extra = ["--width", "160", "--height", "90", "--aov", "object_id,material_id"]
+    for ext in (".png", ".exr"):
+        single(scene, os.path.join(d, "ref" + ext), extra)
+        rc, err, _ = farm([scene, "-o", os.path.join(d, "farm" + ext), "--local-workers", "2", "--tile-size", "40"]
+                          + extra)
+        assert rc == 0, err
+        for suffix in ["", ".object_id", ".material_id"]:
+            same(os.path.join(d, "ref" + suffix + ext), os.path.join(d, "farm" + suffix + ext))
+    _, ids = pixels(os.path.join(d, "farm.object_id.exr"))
+    assert ids.dtype == np.uint32, ids.dtype
+    assert set(np.unique(ids)) <= set(range(6)) | {0xFFFFFFFF}, np.unique(ids)
+
+
 def frames():
     """(c) two scenes, -o DIR/%04d.png: one image (and its auxiliary images) per frame, equal to single renders."""
     d = os.path.join(work, "frames")
@@ -175,6 +194,7 @@ case(tiles_png)
 case(tiles_exr_killed_worker)
 case(frames)
 case(split_aovs)
+case(masks)
 
 passed = sum(results)
 failed = len(results) - passed

@@ -24,7 +24,10 @@ import xml.etree.ElementTree as ET
 
 PASS_THROUGH = ["width", "height", "spp", "max-depth", "aov", "aov-bounces", "aa", "aa-threshold"]
 AOV_NAMES = ["ambient", "diffuse", "specular", "reflection", "transmission", "ambient_coef", "diffuse_coef",
-             "specular_coef", "reflection_coef", "transmission_coef", "ior", "depth", "normal", "samples"]
+             "specular_coef", "reflection_coef", "transmission_coef", "ior", "depth", "normal", "samples",
+             "object_id", "material_id"]
+# The masks: ids in EXR files are UINT channels, carried as they are (tiles are pasted, never blended).
+ID_AOVS = {"object_id", "material_id"}
 COLOUR_AOVS = {"ambient", "diffuse", "specular", "reflection", "transmission"}
 
 
@@ -248,10 +251,11 @@ def image_writer(pixels, colour, full=None):
     def w(tmp):
         h, wd, c = pixels.shape
         is_float = pixels.dtype.kind == "f"
-        spec = oiio.ImageSpec(wd, h, c, "float" if is_float else "uint8")
-        if not is_float and colour:
+        is_uint32 = pixels.dtype == "uint32"
+        spec = oiio.ImageSpec(wd, h, c, "float" if is_float else "uint" if is_uint32 else "uint8")
+        if not is_float and not is_uint32 and colour:
             spec.attribute("oiio:ColorSpace", "sRGB")
-        if is_float:
+        if is_float or is_uint32:
             spec.attribute("compression", "zip")
         out = oiio.ImageOutput.create(tmp)
         if out is None or not out.open(tmp, spec) or not out.write_image(pixels) or not out.close():
@@ -376,9 +380,10 @@ def run_tiles(client, job, args, a):
         x0, y0, x1, y1 = r
         res = results[k * per_tile]
         for name, (path, colour, arr) in list(images.items()):
-            px, _, _ = decode(res["files"][name], ext, fmt)
+            ids = ext == ".exr" and name.split(".")[1] in ID_AOVS
+            px, _, _ = decode(res["files"][name], ext, "uint" if ids else fmt)
             if arr is None:
-                arr = np.zeros((height, width, px.shape[2]), dtype)
+                arr = np.zeros((height, width, px.shape[2]), np.uint32 if ids else dtype)
                 images[name] = (path, colour, arr)
             arr[y0:y1, x0:x1, :] = px
         if "tile.json" in res["files"]:

@@ -1,7 +1,7 @@
 // The command-line verbs. Each sets up its own options on the CLI11 app
-// beside its code (render_command.cpp, view_command.cpp,
-// devices_command.cpp, trace_command.cpp); main.cpp only registers them, parses and calls the
-// one given.
+// beside its code (render_command.cpp, view_command.cpp, devices_command.cpp,
+// trace_command.cpp, convert_command.cpp); main.cpp only registers them, parses
+// and calls the one given.
 #pragma once
 
 #include <functional>
@@ -29,5 +29,6 @@ Command addRenderCommand(CLI::App& app);
 Command addDevicesCommand(CLI::App& app);
 Command addViewCommand(CLI::App& app);
 Command addTraceCommand(CLI::App& app);
+Command addConvertCommand(CLI::App& app);
 
 }  // namespace whitted

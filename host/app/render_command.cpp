@@ -111,6 +111,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
     settings.auxiliary = !aovs.empty();
     // Split layers only when a split image is written (they cost memory and bandwidth).
     if (!hasSplitAov(aovs)) settings.aovBounces = 0;
+    settings.ids = hasIdAov(aovs);  // the id layer, likewise
     // One context and renderer per device: --device all, or a list such as
     // 0,1 (the same device may be named twice, which tests the sharing).
     std::vector<std::unique_ptr<VulkanContext>> contexts;
@@ -169,7 +170,8 @@ int runRenderCommand(const RenderCommandOptions& options) {
     };
     auto recordJson = [&] {
         return renderRecordJson({.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
-                                 .device = ctx.deviceInfo(), .sharedWith = sharedWith(), .result = &result, .files = files, .loadSeconds = loadSeconds});
+                                 .device = ctx.deviceInfo(), .sharedWith = sharedWith(), .result = &result, .files = files, .loadSeconds = loadSeconds,
+                                 .masks = settings.ids ? &scene : nullptr});
     };
     bool clean = true;
     if (options.output) {

@@ -89,8 +89,11 @@ ImageStreamWriter::ImageStreamWriter(const std::filesystem::path& path, int widt
     // atomic) with the same extension (OpenImageIO picks the format by it).
     temporary_ = path.parent_path() /
                  ("." + path.stem().string() + ".partial-" + std::to_string(::getpid()) + path.extension().string());
+    if (encoding == PixelEncoding::Uint32 && !isFloat_)
+        throw std::logic_error(path.string() + ": 32-bit integer pixels need a float format (EXR)");
     ImageFileSpec spec{.width = width, .height = height, .channels = channels, .floatPixels = isFloat_,
-                       .srgb = encoding == PixelEncoding::Srgb8, .window = window};
+                       .uintPixels = encoding == PixelEncoding::Uint32, .srgb = encoding == PixelEncoding::Srgb8,
+                       .window = window};
     std::string error;
     out_->file = imageLibrary().openWriter(temporary_.string(), spec, error);
     if (!out_->file) {

@@ -13,6 +13,7 @@ enum class PixelEncoding {
     Srgb8,    // 8-bit, sRGB transfer curve applied (colour images)
     Linear8,  // 8-bit, values stored as they are (data images)
     Float,    // 32-bit float, linear (EXR)
+    Uint32,   // float formats only: the floats' bits as 32-bit unsigned integers (mask ids, EXR UINT)
 };
 
 // True if the extension names a format that stores float pixels (.exr, .hdr).

@@ -44,6 +44,7 @@ struct ImageFileSpec {
     int height = 0;
     int channels = 0;
     bool floatPixels = false;  // 32-bit float (EXR, HDR), else 8-bit
+    bool uintPixels = false;   // with floatPixels: 32-bit unsigned integers instead (EXR UINT)
     bool srgb = false;         // 8-bit pixels that carry the sRGB curve
     ImageWindow window;        // float files: the data window's place in the full picture
 };
@@ -75,7 +76,7 @@ public:
 };
 
 // The module's one entry point; null when `abi` is not the one it was built with.
-constexpr uint32_t kImageLibraryAbi = 1;
+constexpr uint32_t kImageLibraryAbi = 2;
 extern "C" const ImageLibrary* whittedImageLibrary(uint32_t abi);
 
 // The library, loaded now unless loaded already (waits for a load under

@@ -17,14 +17,13 @@ std::string reasonOr(std::string reason) {
 
 class OiioWriter : public ImageFileWriter {
 public:
-    OiioWriter(std::unique_ptr<OIIO::ImageOutput> out, bool floatPixels, int y0)
-        : out_(std::move(out)), floatPixels_(floatPixels), y0_(y0) {}
+    OiioWriter(std::unique_ptr<OIIO::ImageOutput> out, OIIO::TypeDesc format, int y0)
+        : out_(std::move(out)), format_(format), y0_(y0) {}
     ~OiioWriter() override {
         if (out_) out_->close();
     }
     bool writeRows(int y0, int y1, const void* pixels, std::string& error) override {
-        if (out_->write_scanlines(y0_ + y0, y0_ + y1, 0, floatPixels_ ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8,
-                                  pixels))
+        if (out_->write_scanlines(y0_ + y0, y0_ + y1, 0, format_, pixels))
             return true;
         error = reasonOr(out_->geterror());
         return false;
@@ -38,7 +37,7 @@ public:
 
 private:
     std::unique_ptr<OIIO::ImageOutput> out_;
-    bool floatPixels_;
+    OIIO::TypeDesc format_;  // of the pixels handed in and of the file
     int y0_;
 };
 
@@ -76,8 +75,10 @@ public:
                 error = "no image writer for this file extension";
                 return nullptr;
             }
-            OIIO::ImageSpec spec(s.width, s.height, s.channels,
-                                 s.floatPixels ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+            OIIO::TypeDesc format = !s.floatPixels ? OIIO::TypeDesc::UINT8
+                                    : s.uintPixels ? OIIO::TypeDesc::UINT32
+                                                   : OIIO::TypeDesc::FLOAT;
+            OIIO::ImageSpec spec(s.width, s.height, s.channels, format);
             if (!s.floatPixels && s.srgb) spec.attribute("oiio:ColorSpace", "sRGB");
             int y0 = 0;
             if (s.floatPixels) {
@@ -96,7 +97,7 @@ public:
                 error = reasonOr(out->geterror());
                 return nullptr;
             }
-            return std::make_unique<OiioWriter>(std::move(out), s.floatPixels, y0);
+            return std::make_unique<OiioWriter>(std::move(out), format, y0);
         } catch (const std::exception& e) {
             error = e.what();
             return nullptr;

@@ -17,13 +17,13 @@
 namespace whitted {
 namespace {
 
-enum class AovKind { Color, Scalar, Depth, Normal, Samples };
+enum class AovKind { Color, Scalar, Depth, Normal, Samples, Id };
 
 struct AovSpec {
     AovInfo info;
     AovKind kind;
     uint32_t layer;
-    int channel;      // for Scalar
+    int channel;      // for Scalar and Id (0 object, 1 material)
     float pngScale;   // for Scalar: 8-bit value = value * pngScale
 };
 
@@ -44,6 +44,9 @@ const std::vector<AovSpec>& aovSpecs() {
         {{"depth", "distance from the eye to the visible surface"}, Depth, gpu::kAovCoefs0, 3, 1},
         {{"normal", "shading normal of the visible surface (8-bit: n / 2 + 0.5)"}, Normal, gpu::kAovNormal, 0, 1},
         {{"samples", "camera samples the pixel took (8-bit: samples / maximum)"}, Samples, gpu::kAovColor, 0, 1},
+        // The id layer's place depends on the render (ImageLayout::idLayer).
+        {{"object_id", "index of the object the pixel-centre ray hits (8-bit: a colour per id)"}, Id, 0, 0, 1},
+        {{"material_id", "index of the material the pixel-centre ray hits (8-bit: a colour per id)"}, Id, 0, 1, 1},
     };
     return specs;
 }
@@ -131,8 +134,9 @@ ImageFileSink::ImageFileSink(const std::filesystem::path& mainImage, const std::
         auto file = std::make_unique<File>();
         file->spec = spec;
         file->isFloat = isFloatFormat(path);
-        file->channels = spec.kind == AovKind::Color || spec.kind == AovKind::Normal ? 3 : 1;
-        PixelEncoding encoding = PixelEncoding::Linear8;
+        bool colour = spec.kind == AovKind::Color || spec.kind == AovKind::Normal;
+        file->channels = colour || (spec.kind == AovKind::Id && !file->isFloat) ? 3 : 1;
+        PixelEncoding encoding = spec.kind == AovKind::Id && file->isFloat ? PixelEncoding::Uint32 : PixelEncoding::Linear8;
         if (spec.kind == AovKind::Color) {
             file->seedTonemap = !file->isFloat && tonemap == Tonemap::Seed;
             if (!file->seedTonemap) encoding = PixelEncoding::Srgb8;
@@ -143,9 +147,14 @@ ImageFileSink::ImageFileSink(const std::filesystem::path& mainImage, const std::
         files_.push_back(std::move(file));
     };
     add(mainImage, AovSpec{{"image", "the image"}, AovKind::Color, gpu::kAovColor, 0, 1});
-    uint32_t bounces = layout.layerCount > gpu::kAovCount ? (layout.layerCount - gpu::kAovCount) / 2 : 0;
+    uint32_t splitLayers = layout.layerCount - (layout.ids ? 1 : 0);
+    uint32_t bounces = splitLayers > gpu::kAovCount ? (splitLayers - gpu::kAovCount) / 2 : 0;
     for (const std::string& name : aovs) {
         AovSpec spec = findSpec(name, bounces);
+        if (spec.kind == AovKind::Id) {
+            if (!layout.ids) throw std::logic_error("mask images requested from a render without the id layer");
+            spec.layer = layout.idLayer();
+        }
         if (spec.kind != AovKind::Samples && layout.layerCount <= spec.layer)
             throw std::logic_error("auxiliary images requested from a render without auxiliary layers");
         add(aovPath(mainImage, name), spec);
@@ -197,6 +206,19 @@ void ImageFileSink::writeBand(const BandView& band) {
             case AovKind::Samples:
                 for (size_t i = 0; i < n; ++i)
                     v[i] = band.sampleCounts[i] / (file->isFloat ? 1.0f : float(maxSamples_));
+                break;
+            case AovKind::Id:
+                // EXR: the id's bits as they are (a UINT channel); 8-bit:
+                // its hash colour, black for the background.
+                for (size_t i = 0; i < n; ++i) {
+                    float bits = layer[i * 4 + spec.channel];
+                    if (file->isFloat) {
+                        v[i] = bits;
+                        continue;
+                    }
+                    uint32_t rgb = gpu::idColorRgb8(std::bit_cast<uint32_t>(bits));
+                    for (int c = 0; c < 3; ++c) v[i * 3 + c] = float((rgb >> (8 * c)) & 0xffu) / 255.0f;
+                }
                 break;
         }
         if (file->seedTonemap)
@@ -287,6 +309,11 @@ std::vector<std::string> parseAovList(const std::string& list, int bounces) {
         if (std::find(names.begin(), names.end(), item) == names.end()) names.push_back(item);
     }
     return names;
+}
+
+bool hasIdAov(const std::vector<std::string>& aovs) {
+    return std::find(aovs.begin(), aovs.end(), "object_id") != aovs.end() ||
+           std::find(aovs.begin(), aovs.end(), "material_id") != aovs.end();
 }
 
 bool hasSplitAov(const std::vector<std::string>& aovs) {

@@ -34,6 +34,10 @@ const std::vector<AovInfo>& allAovs();
 // split name beyond B is refused.
 std::vector<std::string> parseAovList(const std::string& list, int bounces = 0);
 
+// Whether the list holds a mask (object_id, material_id): the render needs
+// RenderSettings::ids.
+bool hasIdAov(const std::vector<std::string>& aovs);
+
 // Whether the list holds one of the split images (reflection.K, transmission.K).
 bool hasSplitAov(const std::vector<std::string>& aovs);
 

@@ -21,7 +21,37 @@ std::string timestamp(const char* format) {
     return buf;
 }
 
+const char* shapeName(const Shape& shape) {
+    static constexpr const char* kNames[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh", "csg"};
+    static_assert(std::variant_size_v<Shape> == std::size(kNames));
+    return kNames[shape.index()];
+}
+
+// The csg children with their own materials, in the order the packer gives
+// them material indices (host/shapes/csg.cpp, emitCsg: depth first).
+void appendChildMaterials(const Csg& csg, size_t object, nlohmann::ordered_json& out) {
+    for (const CsgChild& child : csg.children) {
+        if (child.ownMaterial)
+            out.push_back({{"id", out.size()}, {"name", ""}, {"object", object}, {"line", child.sourceLine}});
+        if (const Csg* nested = std::get_if<Csg>(&child.shape)) appendChildMaterials(*nested, object, out);
+    }
+}
+
 }  // namespace
+
+nlohmann::ordered_json maskLegend(const Scene& scene) {
+    // Object k's material is material k (its name the object's); the csg
+    // children's own materials follow.
+    nlohmann::ordered_json objects = nlohmann::ordered_json::array(), materials = nlohmann::ordered_json::array();
+    for (size_t k = 0; k < scene.objects.size(); ++k) {
+        const Object& o = scene.objects[k];
+        objects.push_back({{"id", k}, {"name", o.name}, {"shape", shapeName(o.shape)}, {"line", o.sourceLine}});
+        materials.push_back({{"id", k}, {"name", o.name}, {"object", k}, {"line", o.sourceLine}});
+    }
+    for (size_t k = 0; k < scene.objects.size(); ++k)
+        if (const Csg* csg = std::get_if<Csg>(&scene.objects[k].shape)) appendChildMaterials(*csg, k, materials);
+    return {{"background", 0xffffffffu}, {"objects", objects}, {"materials", materials}};
+}
 
 std::string renderRecordJson(const RenderRecord& r) {
     const RenderResult& res = *r.result;
@@ -77,6 +107,7 @@ std::string renderRecordJson(const RenderRecord& r) {
           {"per_second", double(res.rays.total()) / seconds}}},
         {"files", files},
     };
+    if (r.masks) j["masks"] = maskLegend(*r.masks);
     // A path that is not valid UTF-8 is written with U+FFFD rather than refused.
     return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }

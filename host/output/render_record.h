@@ -5,7 +5,10 @@
 
 #include "io/atomic_file.h"
 #include "render/render_result.h"
+#include "scene/scene.h"
 #include "vk/device_info.h"
+
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <functional>
@@ -23,7 +26,14 @@ struct RenderRecord {
     const RenderResult* result = nullptr;
     std::vector<std::filesystem::path> files;
     double loadSeconds = 0;  // reading and checking the scene file
+    // With mask images (object_id, material_id): the scene whose objects and
+    // materials their ids index; the record then lists them ("masks").
+    const Scene* masks = nullptr;
 };
+
+// The masks' legend: index -> name of every object and every material, as
+// the ids of object_id and material_id number them (README "Auxiliary images").
+nlohmann::ordered_json maskLegend(const Scene& scene);
 
 // The record as JSON text.
 std::string renderRecordJson(const RenderRecord& record);

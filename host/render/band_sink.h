@@ -17,7 +17,10 @@ struct ImageLayout {
     int fullWidth = 0;
     int fullHeight = 0;
     PixelRegion region;       // the pixels rendered, within the full image
-    uint32_t layerCount = 1;  // gpu::kAovCount (+ 2 per split bounce) with auxiliary layers, else 1 (colour only)
+    uint32_t layerCount = 1;  // gpu::kAovCount (+ 2 per split bounce, + 1 with ids) with auxiliary layers, else 1
+    bool ids = false;         // the last layer is the id layer (gpu::kOptionWriteIds): uint bits, not means
+    // The id layer's index, or layerCount (none).
+    uint32_t idLayer() const { return ids ? layerCount - 1 : layerCount; }
 };
 
 // One band: rows [y0, y0 + rows) of the region, every column of it.
@@ -27,7 +30,8 @@ struct BandView {
     int rows = 0;
     int width = 0;  // the region's width
     // Means over each pixel's samples, [layer][row][column][rgba]; the
-    // colour layers' w is 1 where the pixel took samples.
+    // colour layers' w is 1 where the pixel took samples. The id layer
+    // (ImageLayout::idLayer) holds uint bits instead.
     std::span<const float> layers;
     // Samples each pixel took, [row][column].
     std::span<const float> sampleCounts;

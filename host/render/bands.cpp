@@ -236,12 +236,13 @@ RenderResult renderBands(const BandResources& parts, BandSink& sink, const Progr
         batch.flush(vk::DeviceSize(layerCount) * pixels * sizeof(glm::vec4));
 
         // Sums to means: every layer of a pixel over the samples it took
-        // (w of its colour layer); the hit-mask layers average the same way.
+        // (w of its colour layer); the hit-mask layers average the same way,
+        // the id layer's uint bits stay as they are.
         // In place, in the mapped read-back buffer: no host copy of the band.
         float* raw = static_cast<float*>(parts.readback.mapped);
         counts.resize(pixels);
         for (size_t i = 0; i < pixels; ++i) counts[i] = raw[i * 4 + 3];
-        for (uint32_t layer = 0; layer < layerCount; ++layer)
+        for (uint32_t layer = 0; layer < std::min(layerCount, layout.idLayer()); ++layer)
             for (size_t i = 0; i < pixels; ++i) {
                 float inverse = counts[i] > 0 ? 1.0f / counts[i] : 0.0f;
                 for (int c = 0; c < 4; ++c) raw[(layer * pixels + i) * 4 + c] *= inverse;

@@ -191,11 +191,17 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
         uint32_t material = uint32_t(g.materials.size());
         g.materials.push_back(packMaterial(object.material, g.textures));
         size_t first = primitives.size();
+        // Every primitive a hit can report (a csg object's leaves, not the
+        // csg primitive itself) names its object for the object_id mask.
+        uint32_t objectIndex = material;  // objects and their materials share the index
         if (const Csg* c = std::get_if<Csg>(&object.shape)) {
+            size_t firstLeaf = csg.leaves.size();
             primitives.push_back(packCsg(*c, material, csg));
             bounds.push_back(boundsCsg(*c));
+            for (size_t k = firstLeaf; k < csg.leaves.size(); ++k) csg.leaves[k].extra1 = objectIndex;
         } else {
             appendPrimitives(object.shape, material, primitives, bounds);
+            for (size_t k = first; k < primitives.size(); ++k) primitives[k].extra1 = objectIndex;
         }
         if (!attributes) continue;
         if (needsAttributes(object)) {
@@ -270,7 +276,8 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     g.params.samplesPerPixel = uint32_t(settings.samplesPerPixel);
     g.params.maxDepth = uint32_t(settings.maxDepth);
     g.params.options = (settings.auxiliary ? gpu::kOptionWriteAovs : 0u) |
-                       (settings.textureLodZero ? gpu::kOptionTextureLodZero : 0u);
+                       (settings.textureLodZero ? gpu::kOptionTextureLodZero : 0u) |
+                       (settings.auxiliary && settings.ids ? gpu::kOptionWriteIds : 0u);
     if (settings.auxiliary) g.params.options |= uint32_t(settings.aovBounces) << gpu::kOptionAovBouncesShift;
     g.params.seed = uint32_t(settings.seed);
     g.params.bvhNodeCount = uint32_t(g.bvhNodes.size());

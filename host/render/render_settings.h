@@ -49,6 +49,9 @@ struct RenderSettings {
     // With auxiliary: reflection and transmission split by ray depth into
     // this many layers each (0..gpu::kAovBouncesMax; README "Auxiliary images").
     int aovBounces = 0;
+    // With auxiliary: the object and material masks' layer (the id of what
+    // the pixel-centre ray hits; README "Auxiliary images").
+    bool ids = false;
     bool useBvh = true;       // false: test every primitive (reference for tests)
     TracePath trace = TracePath::Auto;
     uint32_t seed = 0;        // decorrelates sample patterns between renders

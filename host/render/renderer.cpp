@@ -112,9 +112,10 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     if (settings.aovBounces < 0 || settings.aovBounces > int(gpu::kAovBouncesMax))
         throw std::runtime_error("auxiliary bounces must be in 0.." + std::to_string(gpu::kAovBouncesMax) + ", got " +
                                  std::to_string(settings.aovBounces));
-    layerCount_ = settings.auxiliary ? gpu::kAovCount + 2 * uint32_t(settings.aovBounces) : 1;
+    bool ids = settings.auxiliary && settings.ids;
+    layerCount_ = settings.auxiliary ? gpu::kAovCount + 2 * uint32_t(settings.aovBounces) + (ids ? 1 : 0) : 1;
     layout_ = {.fullWidth = scene_.width, .fullHeight = scene_.height,
-               .region = regionFor(settings, scene_.width, scene_.height), .layerCount = layerCount_};
+               .region = regionFor(settings, scene_.width, scene_.height), .layerCount = layerCount_, .ids = ids};
 
     // Bands of whole rows of the region, as many rows as bandBytes pays for
     // (output layers, plus the adaptive pass's list, statistics and guide),
@@ -352,9 +353,11 @@ RenderResult Renderer::readMeans() const {
     uint32_t minimum = UINT32_MAX;
     for (size_t i = 0; i < pixels; ++i) minimum = std::min(minimum, uint32_t(raw[i * 4 + 3]));
     result.samplesPerPixel = int(minimum);
+    result.layout = layout_;
     for (uint32_t layer = 0; layer < layerCount_; ++layer) {
         auto& out = result.layers[layer];
         out.assign(raw.begin() + layer * pixels * 4, raw.begin() + (layer + 1) * pixels * 4);
+        if (layer == layout_.idLayer()) continue;  // ids: uint bits, kept as they are
         for (size_t i = 0; i < pixels; ++i) {
             float count = raw[i * 4 + 3];
             for (int c = 0; c < 4; ++c) out[i * 4 + c] = count > 0 ? out[i * 4 + c] / count : 0.0f;

@@ -26,7 +26,10 @@ std::vector<LayerView> layerViews(int width, int height, int bounces) {
             make("transmission_coef", gpu::kDisplayScalar, gpu::kAovCoefs1, 1, 1),
             make("ior", gpu::kDisplayScalar, gpu::kAovCoefs1, 2, 1.0f / 3.0f),
             make("depth", gpu::kDisplayDepth, gpu::kAovCoefs0, 3, 1),
-            make("normal", gpu::kDisplayNormal, gpu::kAovNormal, 0, 1)};
+            make("normal", gpu::kDisplayNormal, gpu::kAovNormal, 0, 1),
+            // The id layer follows the split ones (device_types.h).
+            make("object_id", gpu::kDisplayId, gpu::kAovCount + 2 * uint32_t(bounces), 0, 1),
+            make("material_id", gpu::kDisplayId, gpu::kAovCount + 2 * uint32_t(bounces), 1, 1)};
     // --aov-bounces: the split images after "transmission", as --aov all orders them.
     std::vector<LayerView> split;
     for (int part = 0; part < 2; ++part)

@@ -149,6 +149,7 @@ private:
         s.width = size.x;
         s.height = size.y;
         s.auxiliary = true;
+        s.ids = true;  // the masks are in the window's list
         // The window draws from the renderer's sums of the whole image, and
         // refines uniformly: every pass adds samples to every pixel, so the
         // picture sharpens evenly and the final sums equal render's
@@ -387,7 +388,8 @@ void ViewApp::saveImages() {
                             .device = ctx_.deviceInfo(),
                             .sharedWith = {},
                             .result = &result,
-                            .files = files};
+                            .files = files,
+                            .masks = &scene_};
         writeTextFile(staging / "render.json", renderRecordJson(record));
     });
     overlay_.status = "saved " + folder.string();

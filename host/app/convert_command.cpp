@@ -1,0 +1,53 @@
+// `whitted convert INPUT -o OUT.xml`: any input the other commands take (a
+// scene file, a model file through its quick look) written as a whitted
+// scene file by the scene writer the window's Save uses, so that it can be
+// edited and renders as the input does.
+#include "app/commands.h"
+#include "app/quick_look.h"
+#include "scene/scene_error.h"
+#include "scene/scene_writer.h"
+
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+namespace whitted {
+namespace {
+
+struct ConvertOptions {
+    std::filesystem::path input;
+    std::filesystem::path output;
+};
+
+int runConvert(const ConvertOptions& options) {
+    Scene scene;
+    try {
+        scene = loadSceneOrModel(options.input);
+    } catch (const SceneError& e) {
+        std::cerr << e.what() << "\n";
+        return kExitBadInput;
+    }
+    for (const std::string& warning : scene.warnings) std::cerr << "warning: " << warning << "\n";
+    std::filesystem::path folder = options.output.parent_path().empty() ? "." : options.output.parent_path();
+    if (!std::filesystem::is_directory(folder)) {
+        std::cerr << "whitted: " << options.output.string() << ": the folder " << folder.string()
+                  << " does not exist\n";
+        return kExitBadInput;
+    }
+    writeSceneFile(scene, options.output);  // atomic: a temporary file renamed when complete
+    return kExitOk;
+}
+
+}  // namespace
+
+Command addConvertCommand(CLI::App& app) {
+    auto options = std::make_shared<ConvertOptions>();
+    auto* cmd = app.add_subcommand("convert", "write a scene or model file as a whitted XML scene");
+    cmd->add_option("input", options->input, "scene file (.xml) or model file (.obj, .glb, .ply, ...)")->required();
+    cmd->add_option("-o,--output", options->output, "the XML scene file to write")->required();
+    return {cmd, [options] { return runConvert(*options); }};
+}
+
+}  // namespace whitted
