@@ -52,6 +52,7 @@ def main():
     scene = whitted.load(scene_path)
     positions = orbit(scene, args.frames)
 
+    load_before = os.getloadavg()[0]
     # (a) One renderer; the first render (device, pipeline, upload) is counted.
     start = time.perf_counter()
     renderer = whitted.Renderer()
@@ -101,6 +102,7 @@ def main():
         "target_ratio": 5,
         "warm_8x8_seconds_median": round(floor[len(floor) // 2], 4),
         "warm_8x8_seconds_min": round(floor[0], 4),
+        "load_average_1min": [round(load_before, 2), round(os.getloadavg()[0], 2)],  # before, after: other work
     }
     text = json.dumps(report, indent=2)
     print(text)
