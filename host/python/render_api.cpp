@@ -54,11 +54,10 @@ public:
     }
     void writeBand(const BandView& band) override {
         size_t w = size_t(band.width), n = w * p_.layout.region.height();
-        size_t row = size_t(band.y0 - p_.layout.region.y0), bandValues = size_t(band.rows) * w * 4;
+        size_t row = size_t(band.y0 - p_.layout.region.y0);
         for (uint32_t l = 0; l < p_.layout.layerCount; ++l) {
             std::span<const float> src = band.layer(l);
             std::copy(src.begin(), src.end(), p_.layers.begin() + l * n * 4 + row * w * 4);
-            (void)bandValues;
         }
         std::copy(band.sampleCounts.begin(), band.sampleCounts.end(), p_.sampleCounts.begin() + row * w);
     }

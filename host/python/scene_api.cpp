@@ -126,27 +126,30 @@ void materialField(py::class_<ObjectView>& cls, const char* name, T Material::*m
             doc);
 }
 
-py::object sceneError;  // whitted.SceneError
+// whitted.SceneError; a strong reference kept for the process's life (never
+// released by a static destructor after the interpreter has gone).
+PyObject* sceneError = nullptr;
 
 }  // namespace
 
 void addSceneApi(py::module_& m) {
     // SceneError(ValueError): .file, .line, .message; str() is the text the CLI prints.
-    sceneError = py::reinterpret_borrow<py::object>(PyErr_NewExceptionWithDoc(
+    sceneError = PyErr_NewExceptionWithDoc(
         "whitted.SceneError",
         "A refused scene or model file: .file, .line (0 when none applies), .message; "
         "str() is 'FILE:LINE: message', as `whitted render` prints it.",
-        PyExc_ValueError, nullptr));
-    m.attr("SceneError") = sceneError;
+        PyExc_ValueError, nullptr);
+    if (!sceneError) throw py::error_already_set();
+    m.attr("SceneError") = py::handle(sceneError);
     py::register_exception_translator([](std::exception_ptr p) {
         try {
             if (p) std::rethrow_exception(p);
         } catch (const SceneError& e) {
-            py::object err = sceneError(e.what());
+            py::object err = py::handle(sceneError)(e.what());
             err.attr("file") = e.file();
             err.attr("line") = e.line();
             err.attr("message") = e.message();
-            PyErr_SetObject(sceneError.ptr(), err.ptr());
+            PyErr_SetObject(sceneError, err.ptr());
         }
     });
 
