@@ -18,12 +18,14 @@ packages=(
   libimgui-dev xdotool
   nlohmann-json3-dev
   python3-distributed python3-openimageio
+  pybind11-dev python3-pytest python3-numpy python3-venv python3-pip  # the Python module (host/python/), its tests
 )
 
 # Packages taken from bookworm-backports (the standard Debian route for a
 # newer version): Mesa 25's lavapipe is 3-8x faster than Debian 12's 22.3 on
 # the same shader and offers VK_KHR_ray_query. whitted stays correct on 22.3.
-backports=(mesa-vulkan-drivers)
+# scikit-build-core (`pip install .`, pyproject.toml) exists only there.
+backports=(mesa-vulkan-drivers python3-scikit-build-core)
 backports_list=/etc/apt/sources.list.d/whitted-bookworm-backports.sources
 
 SUDO=""

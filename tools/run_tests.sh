@@ -8,6 +8,9 @@ tools/install_deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DWHITTED_WARNINGS_AS_ERRORS=ON
 cmake --build build
 ctest --test-dir build --output-on-failure
+# The Python module (tests/python/): the same pixels as the CLI, uploads,
+# errors, threads, Ctrl+C, memory, and `pip install .` into a fresh venv.
+PYTHONPATH=build/python WHITTED_VALIDATION=1 /usr/bin/python3 -m pytest tests/python -q
 
 # ---- Extra suites (sanitizers, fuzzing) ----
 # The whole ctest suite again, built with AddressSanitizer and

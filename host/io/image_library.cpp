@@ -23,12 +23,16 @@ struct Loaded {
 // Linked in (the fuzzer, the sanitizer build): nothing to load.
 Loaded load() { return {whittedImageLibrary(kImageLibraryAbi), ""}; }
 #else
-// The module beside the executable, then where the build wrote it.
+// The module beside the executable, beside the shared object holding this
+// code (the Python module, installed with it), then where the build wrote it.
 Loaded load() {
     std::vector<std::filesystem::path> candidates;
     std::error_code ec;
     std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
     if (!ec) candidates.push_back(self.parent_path() / "whitted_image_io.so");
+    Dl_info info{};
+    if (dladdr(reinterpret_cast<void*>(&load), &info) && info.dli_fname)
+        candidates.push_back(std::filesystem::path(info.dli_fname).parent_path() / "whitted_image_io.so");
     candidates.push_back(WHITTED_IMAGE_LIBRARY_PATH);
     Loaded result;
     for (const std::filesystem::path& candidate : candidates) {

@@ -79,6 +79,14 @@ AovSpec findSpec(const std::string& name, uint32_t bounces) {
     throw std::invalid_argument("unknown auxiliary image '" + name + "'");
 }
 
+// Values per pixel in an image file: colours and normals 3, the rest 1.
+// Channels of an image file: colours and normals 3; an id mask 3 in 8-bit
+// files (its hash colour), 1 in float files (the id itself).
+int channelCount(const AovSpec& spec, bool isFloat) {
+    bool colour = spec.kind == AovKind::Color || spec.kind == AovKind::Normal;
+    return colour || (spec.kind == AovKind::Id && !isFloat) ? 3 : 1;
+}
+
 // A file of floats written once and read back once: values an image needs
 // whole before it can be encoded. Unlinked as soon as it is created, so it
 // vanishes with the process whatever happens.
@@ -134,8 +142,7 @@ ImageFileSink::ImageFileSink(const std::filesystem::path& mainImage, const std::
         auto file = std::make_unique<File>();
         file->spec = spec;
         file->isFloat = isFloatFormat(path);
-        bool colour = spec.kind == AovKind::Color || spec.kind == AovKind::Normal;
-        file->channels = colour || (spec.kind == AovKind::Id && !file->isFloat) ? 3 : 1;
+        file->channels = channelCount(spec, file->isFloat);
         PixelEncoding encoding = spec.kind == AovKind::Id && file->isFloat ? PixelEncoding::Uint32 : PixelEncoding::Linear8;
         if (spec.kind == AovKind::Color) {
             file->seedTonemap = !file->isFloat && tonemap == Tonemap::Seed;
@@ -163,64 +170,76 @@ ImageFileSink::ImageFileSink(const std::filesystem::path& mainImage, const std::
 
 ImageFileSink::~ImageFileSink() = default;  // unfinished writers remove their temporaries
 
-void ImageFileSink::writeBand(const BandView& band) {
+namespace {
+
+// A band's values of one image, as its file takes them: `isFloat` for a
+// float file (EXR), else scaled for 8 bits; depth where nothing was hit is
+// `noHit`; samples are divided by `maxSamples` in 8-bit files.
+void bandValues(const AovSpec& spec, const BandView& band, int channels, bool isFloat, float noHit, int maxSamples,
+                float colourScale, std::vector<float>& v) {
     size_t n = size_t(band.rows) * band.width;
+    v.assign(n * channels, 0.0f);
+    std::span<const float> layer = spec.kind == AovKind::Samples ? std::span<const float>() : band.layer(spec.layer);
+    switch (spec.kind) {
+        case AovKind::Color:
+            for (size_t i = 0; i < n; ++i)
+                for (int c = 0; c < 3; ++c) v[i * 3 + c] = layer[i * 4 + c] * colourScale;
+            break;
+        case AovKind::Scalar:
+            for (size_t i = 0; i < n; ++i) v[i] = layer[i * 4 + spec.channel] * (isFloat ? 1.0f : spec.pngScale);
+            break;
+        case AovKind::Depth: {
+            // Mean distance over the samples that hit; noHit where nothing was.
+            std::span<const float> hits = band.layer(gpu::kAovCoefs1);  // w: fraction of samples that hit
+            for (size_t i = 0; i < n; ++i) {
+                float h = hits[i * 4 + 3];
+                v[i] = h > 0 ? layer[i * 4 + 3] / h : noHit;
+            }
+            break;
+        }
+        case AovKind::Normal:
+            for (size_t i = 0; i < n; ++i) {
+                float w = layer[i * 4 + 3];
+                if (w <= 0) continue;
+                for (int c = 0; c < 3; ++c) {
+                    float x = layer[i * 4 + c] / w;
+                    v[i * 3 + c] = isFloat ? x : x * 0.5f + 0.5f;
+                }
+            }
+            break;
+        case AovKind::Samples:
+            for (size_t i = 0; i < n; ++i) v[i] = band.sampleCounts[i] / (isFloat ? 1.0f : float(maxSamples));
+            break;
+        case AovKind::Id:
+            // Float files: the id's bits as they are (a UINT channel); 8-bit:
+            // its hash colour, black for the background.
+            for (size_t i = 0; i < n; ++i) {
+                float bits = layer[i * 4 + spec.channel];
+                if (isFloat) {
+                    v[i] = bits;
+                    continue;
+                }
+                uint32_t rgb = gpu::idColorRgb8(std::bit_cast<uint32_t>(bits));
+                for (int c = 0; c < 3; ++c) v[i * 3 + c] = float((rgb >> (8 * c)) & 0xffu) / 255.0f;
+            }
+            break;
+    }
+}
+
+}  // namespace
+
+void ImageFileSink::writeBand(const BandView& band) {
     int row = band.y0 - layout_.region.y0;
     std::vector<float> v;
     for (auto& file : files_) {
-        const AovSpec& spec = file->spec;
-        v.assign(n * file->channels, 0.0f);
-        std::span<const float> layer = spec.kind == AovKind::Samples ? std::span<const float>() : band.layer(spec.layer);
-        switch (spec.kind) {
-            case AovKind::Color:
-                for (size_t i = 0; i < n; ++i)
-                    for (int c = 0; c < 3; ++c) v[i * 3 + c] = layer[i * 4 + c] * colourScale_;
-                break;
-            case AovKind::Scalar:
-                for (size_t i = 0; i < n; ++i) v[i] = layer[i * 4 + spec.channel] * (file->isFloat ? 1.0f : spec.pngScale);
-                break;
-            case AovKind::Depth: {
-                // Mean distance over the samples that hit; 0 where nothing
-                // was hit (-1 in the spool, to tell it from a distance).
-                std::span<const float> hits = band.layer(gpu::kAovCoefs1);  // w: fraction of samples that hit
-                for (size_t i = 0; i < n; ++i) {
-                    float h = hits[i * 4 + 3];
-                    v[i] = h > 0 ? layer[i * 4 + 3] / h : (file->spooled() ? -1.0f : 0.0f);
-                    if (h > 0 && !file->histogram.empty()) {
-                        ++file->histogram[std::bit_cast<uint32_t>(v[i]) >> 16];
-                        ++file->hits;
-                    }
+        // Depth: -1 in the spool where nothing was hit, to tell it from a distance.
+        bandValues(file->spec, band, file->channels, file->isFloat, file->spooled() ? -1.0f : 0.0f, maxSamples_, colourScale_, v);
+        if (!file->histogram.empty())
+            for (size_t i = 0; i < v.size(); ++i)
+                if (band.layer(gpu::kAovCoefs1)[i * 4 + 3] > 0) {
+                    ++file->histogram[std::bit_cast<uint32_t>(v[i]) >> 16];
+                    ++file->hits;
                 }
-                break;
-            }
-            case AovKind::Normal:
-                for (size_t i = 0; i < n; ++i) {
-                    float w = layer[i * 4 + 3];
-                    if (w <= 0) continue;
-                    for (int c = 0; c < 3; ++c) {
-                        float x = layer[i * 4 + c] / w;
-                        v[i * 3 + c] = file->isFloat ? x : x * 0.5f + 0.5f;
-                    }
-                }
-                break;
-            case AovKind::Samples:
-                for (size_t i = 0; i < n; ++i)
-                    v[i] = band.sampleCounts[i] / (file->isFloat ? 1.0f : float(maxSamples_));
-                break;
-            case AovKind::Id:
-                // EXR: the id's bits as they are (a UINT channel); 8-bit:
-                // its hash colour, black for the background.
-                for (size_t i = 0; i < n; ++i) {
-                    float bits = layer[i * 4 + spec.channel];
-                    if (file->isFloat) {
-                        v[i] = bits;
-                        continue;
-                    }
-                    uint32_t rgb = gpu::idColorRgb8(std::bit_cast<uint32_t>(bits));
-                    for (int c = 0; c < 3; ++c) v[i * 3 + c] = float((rgb >> (8 * c)) & 0xffu) / 255.0f;
-                }
-                break;
-        }
         if (file->seedTonemap)
             for (float x : v) file->lo = std::min(file->lo, x), file->hi = std::max(file->hi, x);
         if (file->spooled())
@@ -346,6 +365,20 @@ std::vector<std::filesystem::path> writeRenderImages(const RenderResult& result,
     sink.writeBand({.y0 = layout.region.y0, .rows = result.height, .width = result.width, .layers = layers,
                     .sampleCounts = counts});
     return sink.finish();
+}
+
+}  // namespace whitted
+
+namespace whitted {
+
+std::vector<float> floatImageValues(const BandView& band, const std::string& name, int bounces, int maxSamples,
+                                    int& channels) {
+    AovSpec spec = name == "image" ? AovSpec{{"image", "the image"}, AovKind::Color, gpu::kAovColor, 0, 1}
+                                   : findSpec(name, uint32_t(bounces));
+    channels = channelCount(spec, true);
+    std::vector<float> v;
+    bandValues(spec, band, channels, true, 0.0f, maxSamples, 1.0f, v);
+    return v;
 }
 
 }  // namespace whitted

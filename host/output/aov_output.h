@@ -73,6 +73,12 @@ private:
     float colourScale_;  // 2^exposure
 };
 
+// The values the float (EXR) file of "image" or of auxiliary image `name`
+// holds for `band`, row-major, `channels` (3 or 1) per pixel: what the
+// Python module hands out as arrays (host/python/).
+std::vector<float> floatImageValues(const BandView& band, const std::string& name, int bounces, int maxSamples,
+                                    int& channels);
+
 // Writes the main image and the requested auxiliary images; returns the
 // paths written, main image first.
 std::vector<std::filesystem::path> writeRenderImages(const RenderResult& result, const std::filesystem::path& mainImage,

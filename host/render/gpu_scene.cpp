@@ -264,8 +264,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
         if (p.shape == gpu::kShapeCsg) p.a.w = glm::uintBitsToFloat(leafBase + glm::floatBitsToUint(p.a.w));
     g.primitives.insert(g.primitives.end(), csg.leaves.begin(), csg.leaves.end());
     g.csgNodes = std::move(csg.nodes);
-    for (const Light& light : scene.lights)
-        g.lights.push_back(packLight(light));
+    g.lights = packShading(scene).lights;
 
     packCamera(scene.camera, g.width, g.height, g.params);
     g.params.ambientLight = glm::vec3(scene.ambientLight);
@@ -283,6 +282,22 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     g.params.bvhNodeCount = uint32_t(g.bvhNodes.size());
     g.params.firstListPrimitive = uint32_t(bounded.size());
     g.params.listPrimitiveCount = uint32_t(unbounded.size());
+    return g;
+}
+
+GpuShading packShading(const Scene& scene) {
+    GpuShading g;
+    // The order of packScene: each object's material, then the csg
+    // children's own, as packCsg collects them.
+    CsgArrays csg;
+    csg.firstMaterial = uint32_t(scene.objects.size());
+    for (const Object& object : scene.objects) {
+        uint32_t material = uint32_t(g.materials.size());
+        g.materials.push_back(packMaterial(object.material, g.textures));
+        if (const Csg* c = std::get_if<Csg>(&object.shape)) packCsg(*c, material, csg);
+    }
+    for (const Material& m : csg.materials) g.materials.push_back(packMaterial(m, g.textures));
+    for (const Light& light : scene.lights) g.lights.push_back(packLight(light));
     return g;
 }
 

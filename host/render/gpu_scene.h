@@ -33,6 +33,16 @@ struct GpuScene {
 
 GpuScene packScene(const Scene& scene, const RenderSettings& settings);
 
+// Only the materials (and the texture slots they name) and the lights of
+// packScene, without the shapes or their BVH: what a material or light edit
+// re-uploads (Renderer::setMaterials, setLights).
+struct GpuShading {
+    std::vector<gpu::Material> materials;
+    std::vector<std::shared_ptr<const TextureData>> textures;
+    std::vector<gpu::Light> lights;
+};
+GpuShading packShading(const Scene& scene);
+
 // Element counts of the scene's device arrays, known before packing: the
 // BVH's node count is its bound 2n - 1 for n bounded primitives.
 struct SceneArrayCounts {

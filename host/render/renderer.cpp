@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -164,12 +165,14 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
 
 // The pipeline specialised for scene_, and the one descriptor set (from a
 // pool of one) that uploadScene() fills.
-void Renderer::buildPipeline() {
+void Renderer::buildPipeline(std::optional<Specialization> constants) {
     auto start = Clock::now();
     if (std::string shortfall = descriptorLimitShortfall(ctx_.physicalDevice.getProperties().limits); !shortfall.empty())
         throw std::runtime_error("device " + ctx_.deviceInfo().name + " " + shortfall);
-    shaderVariant_ = shaderVariantFor(ctx_, scene_, trace_, settings_.sceneReads, settings_.fittedShader);
-    specialization_ = specializationFor(scene_);
+    // With `constants` the scene's arrays are on the device already: the
+    // tracer build that reads them stays.
+    if (!constants) shaderVariant_ = shaderVariantFor(ctx_, scene_, trace_, settings_.sceneReads, settings_.fittedShader);
+    specialization_ = constants ? *constants : specializationFor(scene_);
     const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
                                                   {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
                                                   {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
@@ -257,7 +260,13 @@ void Renderer::uploadScene() {
     }
     scene_.params.attributeAddress = addressWords(attributes_);  // 0 when not made
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
+    writeDescriptors();
+    uploadSeconds_ = secondsSince(start);
+}
 
+// The descriptor set naming every buffer of kTracerBindings, the textures
+// and, for ray queries, the top-level acceleration structure.
+void Renderer::writeDescriptors() {
     // In the order of kTracerBindings.
     const Buffer* buffers[] = {&params_, &output_, &counters_, &pixelList_, &guide_, &sampleStats_, &bvhNodes_,
                                &primitives_, &materials_, &lights_};
@@ -283,7 +292,6 @@ void Renderer::uploadScene() {
         writes.push_back({.pNext = &tlasInfo, .dstSet = *descriptorSet_, .dstBinding = gpu::kBindingTlas,
                           .descriptorCount = 1, .descriptorType = vk::DescriptorType::eAccelerationStructureKHR});
     ctx_.device.updateDescriptorSets(writes, nullptr);
-    uploadSeconds_ = secondsSince(start);
 }
 
 void Renderer::setScene(const Scene& scene) {
@@ -312,6 +320,37 @@ void Renderer::setCamera(const Camera& camera) {
     scene_.params.right = fresh.right;
     scene_.params.up = fresh.up;
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
+}
+
+bool Renderer::setMaterials(const Scene& scene) {
+    GpuShading shading = packShading(scene);
+    if (shading.materials.size() != scene_.materials.size() || shading.textures != scene_.textures) return false;
+    scene_.materials = std::move(shading.materials);
+    // Transparency coming or going needs the pipeline that has it or not
+    // (specializationFor; the shapes, and so the other constants, stay).
+    Specialization next = specialization_;
+    next[1] = std::any_of(scene_.materials.begin(), scene_.materials.end(),
+                          [](const gpu::Material& m) { return m.kt > 0.0f; }) ? 1u : 0u;
+    if (next != specialization_) {
+        buildPipeline(next);
+    }
+    materials_ = createDeviceBuffer(ctx_, scene_.materials.data(), scene_.materials.size() * sizeof(gpu::Material),
+                                    vk::BufferUsageFlagBits::eShaderDeviceAddress | kStorage);
+    scene_.params.materialAddress = addressWords(materials_);
+    std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
+    writeDescriptors();
+    return true;
+}
+
+void Renderer::setLights(const Scene& scene) {
+    scene_.lights = packShading(scene).lights;
+    lights_ = createDeviceBuffer(ctx_, scene_.lights.data(), scene_.lights.size() * sizeof(gpu::Light),
+                                 vk::BufferUsageFlagBits::eShaderDeviceAddress | kStorage);
+    scene_.params.lightAddress = addressWords(lights_);
+    scene_.params.lightCount = uint32_t(scene_.lights.size());
+    scene_.params.ambientLight = glm::vec3(scene.ambientLight);
+    std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
+    writeDescriptors();
 }
 
 void Renderer::recordClear(const vk::raii::CommandBuffer& cmd) const {

@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <optional>
 
 namespace whitted {
 
@@ -47,6 +48,13 @@ public:
     // scene needs shapes or transparency the old one compiled out.
     void setScene(const Scene& scene);
     void setCamera(const Camera& camera);  // rewrites the camera in the uniform block only
+    // Re-uploads the materials only (no BVH, no primitives) when `scene`
+    // has the shapes of the uploaded one; false when a new texture or a
+    // material count needs setScene. The pipeline is rebuilt when
+    // transparency comes or goes.
+    bool setMaterials(const Scene& scene);
+    // Re-uploads the lights and the ambient light only; the device must be idle.
+    void setLights(const Scene& scene);
     void recordClear(const vk::raii::CommandBuffer& cmd) const;  // zero the sums
     // One dispatch over `tile` (pixels x0, y0, width, height) with samples
     // [first, first + count) of samplesPerPixel, added to the sums of the
@@ -69,8 +77,11 @@ public:
     const Specialization& specialization() const { return specialization_; }
 
 private:
-    void buildPipeline();
+    // Specialised for scene_, or with `constants` (and the tracer build kept)
+    // when its arrays are already on the device (setMaterials).
+    void buildPipeline(std::optional<Specialization> constants = std::nullopt);
     void uploadScene();
+    void writeDescriptors();
 
     VulkanContext& ctx_;
     RenderSettings settings_;

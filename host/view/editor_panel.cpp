@@ -9,11 +9,6 @@
 #include <variant>
 
 namespace whitted {
-namespace {
-
-// Where a checker switched on in the panel starts its cells: where the
-// loader anchors them, the object's <position> (a model file's placement,
-// the reference point of every other shape), so the saved file reloads it.
 glm::dvec3 checkerAnchor(const Shape& s) {
     if (const Mesh* mesh = std::get_if<Mesh>(&s); mesh && mesh->source) return mesh->source->position;
     return shapeReferencePoint(s);
@@ -23,6 +18,8 @@ const char* shapeName(const Shape& s) {
     static const char* kNames[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh", "csg"};
     return kNames[s.index()];
 }
+
+namespace {
 
 // ImGui edits floats; the scene keeps doubles.
 bool editVector(const char* label, glm::dvec3& v, float speed) {

@@ -68,4 +68,12 @@ void translateShape(Shape& shape, const glm::dvec3& delta);
 // cylinder base, plane point, box min corner, first vertex otherwise).
 glm::dvec3 shapeReferencePoint(const Shape& shape);
 
+// Where a checker switched on starts its cells: where the loader anchors
+// them, the object's <position> (a model file's placement, the reference
+// point of every other shape), so the saved file reloads it.
+glm::dvec3 checkerAnchor(const Shape& shape);
+
+// "sphere", "cylinder", "plane", "triangle", "box", "mesh" or "csg".
+const char* shapeName(const Shape& shape);
+
 }  // namespace whitted

@@ -1,0 +1,39 @@
+// The Python module `whitted` (host/python/README.md): the scene side
+// (scene_api.cpp) and the renderer side (render_api.cpp), registered by
+// module.cpp. The top layer: it may use every layer below, app included.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <pybind11/pybind11.h>
+
+#include <cstdint>
+#include <memory>
+
+namespace whitted::python {
+
+namespace py = pybind11;
+
+// What the Python side edited since a renderer uploaded the scene: each
+// setter bumps the counter of what it changes (render_api.cpp uploads only
+// what moved).
+struct Versions {
+    uint64_t camera = 0, geometry = 0, materials = 0, lights = 0;
+    bool operator==(const Versions&) const = default;
+};
+
+// A Scene of the module: the C++ scene, shared with the object, light and
+// camera views handed out, and its edit counters. `id` is unique per scene
+// (a copy gets a new one).
+struct SceneHandle {
+    std::shared_ptr<Scene> scene;
+    Versions versions;
+    uint64_t id = 0;
+    explicit SceneHandle(Scene s);
+};
+using SceneRef = std::shared_ptr<SceneHandle>;
+
+void addSceneApi(py::module_& m);
+void addRenderApi(py::module_& m);
+
+}  // namespace whitted::python

@@ -1,0 +1,383 @@
+// whitted.Renderer, RenderResult, devices() and render(): a renderer keeps
+// its Vulkan context, pipeline and uploaded scene between renders and
+// re-uploads only what the scene's edit counters say changed (a camera edit
+// rewrites the uniform block; a material edit the materials, no BVH).
+// Rendering releases the GIL; between bands it takes it back to call
+// progress and PyErr_CheckSignals, so Ctrl+C stops a render cleanly.
+#include "app/cli_options.h"
+#include "io/atomic_file.h"
+#include "io/image_io.h"
+#include "output/aov_output.h"
+#include "output/render_record.h"
+#include "python/python_api.h"
+#include "render/renderer.h"
+#include "vk/context.h"
+
+#include <nlohmann/json.hpp>
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <mutex>
+#include <optional>
+#include <unistd.h>
+
+namespace whitted::python {
+namespace {
+
+// A render's layers as one block, [layer][row][column][rgba], the whole
+// region: the form of one band (BandView) covering the image, so that the
+// output writers take it as they take the CLI's bands.
+struct Pixels {
+    ImageLayout layout;
+    std::vector<float> layers;
+    std::vector<float> sampleCounts;
+    BandView whole() const {
+        return {.index = 0, .y0 = layout.region.y0, .rows = layout.region.height(), .width = layout.region.width(),
+                .layers = layers, .sampleCounts = sampleCounts};
+    }
+};
+
+// Copies each band into its place in Pixels (the one copy a render makes,
+// as the CLI's sink copies each band into its files).
+class PixelSink final : public BandSink {
+public:
+    explicit PixelSink(Pixels& p) : p_(p) {
+        size_t n = size_t(p.layout.region.width()) * p.layout.region.height();
+        p_.layers.assign(n * 4 * p.layout.layerCount, 0.0f);
+        p_.sampleCounts.assign(n, 0.0f);
+    }
+    void writeBand(const BandView& band) override {
+        size_t w = size_t(band.width), n = w * p_.layout.region.height();
+        size_t row = size_t(band.y0 - p_.layout.region.y0);
+        for (uint32_t l = 0; l < p_.layout.layerCount; ++l) {
+            std::span<const float> src = band.layer(l);
+            std::copy(src.begin(), src.end(), p_.layers.begin() + l * n * 4 + row * w * 4);
+        }
+        std::copy(band.sampleCounts.begin(), band.sampleCounts.end(), p_.sampleCounts.begin() + row * w);
+    }
+
+private:
+    Pixels& p_;
+};
+
+// A numpy array that owns `values` (moved into a capsule): no copy.
+py::array_t<float> ownedArray(std::vector<float>&& values, std::vector<py::ssize_t> shape) {
+    auto* held = new std::vector<float>(std::move(values));
+    py::capsule owner(held, [](void* p) { delete static_cast<std::vector<float>*>(p); });
+    return py::array_t<float>(shape, held->data(), owner);
+}
+
+struct Result {
+    Pixels pixels;
+    RenderResult stats;
+    RenderSettings settings;
+    std::vector<std::string> aovs;
+    std::filesystem::path scenePath;
+    DeviceInfo device;
+    nlohmann::json uploads;
+    double loadSeconds = 0;
+    py::object image, aovArrays, record;  // made on first use
+
+    std::string recordJson(const std::vector<std::filesystem::path>& files, const std::string& tonemap) const {
+        nlohmann::json j = nlohmann::json::parse(renderRecordJson({.scenePath = scenePath, .settings = settings,
+                                                                   .tonemap = tonemap, .device = device, .sharedWith = {},
+                                                                   .result = &stats, .files = files,
+                                                                   .loadSeconds = loadSeconds}));
+        j["uploads"] = uploads;
+        return j.dump(2) + "\n";
+    }
+    py::array_t<float> values(const std::string& name) const {
+        int channels = 0;
+        std::vector<float> v = floatImageValues(pixels.whole(), name, settings.aovBounces, settings.samplesPerPixel, channels);
+        std::vector<py::ssize_t> shape = {pixels.layout.region.height(), pixels.layout.region.width()};
+        if (channels > 1) shape.push_back(channels);
+        return ownedArray(std::move(v), shape);
+    }
+    // The files of `whitted render -o path`, through the same writers.
+    std::vector<std::filesystem::path> save(const std::filesystem::path& path, Tonemap tonemap) const {
+        std::filesystem::path parent = path.parent_path().empty() ? "." : path.parent_path();
+        if (!std::filesystem::is_directory(parent)) throw py::value_error("output folder " + parent.string() + " does not exist");
+        if (!isWritableFormat(path))
+            throw py::value_error("cannot write images of type '" + path.extension().string() +
+                                  "' (use .png, .exr, .jpg or .tif)");
+        ImageFileSink sink(path, aovs, tonemap, pixels.layout, settings.samplesPerPixel);
+        sink.writeBand(pixels.whole());
+        std::vector<std::filesystem::path> files = sink.finish();
+        std::filesystem::path recordPath = path;
+        recordPath.replace_extension(".json");
+        writeTextFile(recordPath, recordJson(files, tonemap == Tonemap::Seed ? "seed" : "clamp"));
+        return files;
+    }
+};
+using ResultRef = std::shared_ptr<Result>;
+
+// What the uploaded scene was: which scene, at which edits, with which settings.
+struct Uploaded {
+    uint64_t sceneId = 0;
+    Versions versions;
+    RenderSettings settings;
+};
+
+bool sameSettings(const RenderSettings& a, const RenderSettings& b) {
+    return a.width == b.width && a.height == b.height && a.samplesPerPixel == b.samplesPerPixel &&
+           a.maxDepth == b.maxDepth && a.auxiliary == b.auxiliary && a.aovBounces == b.aovBounces &&
+           a.trace == b.trace && a.antiAliasing == b.antiAliasing && a.aaThreshold == b.aaThreshold &&
+           a.region == b.region;
+}
+
+class PyRenderer {
+public:
+    explicit PyRenderer(const std::optional<std::string>& device) {
+        py::gil_scoped_release release;
+        ctx_ = std::make_unique<VulkanContext>(
+            ContextOptions{.validation = validationFromEnvironment(), .deviceName = device.value_or("")});
+    }
+
+    ResultRef render(const SceneRef& handle, std::optional<int> width, std::optional<int> height, int spp,
+                     const std::string& aa, std::optional<double> aaThreshold, int maxDepth, py::object aovsArg,
+                     int aovBounces, std::optional<std::vector<int>> region, const std::string& trace,
+                     py::object progress) {
+        // Every option is checked before anything reaches the device.
+        auto bad = [](const std::string& what) { throw py::value_error(what); };
+        const Scene& scene = *handle->scene;
+        auto side = [&](const char* name, std::optional<int> v, int fallback) {
+            int x = v.value_or(fallback);
+            if (x < 1 || x > int(gpu::kMaxImageSide))
+                bad(std::string(name) + ": must be in 1.." + std::to_string(gpu::kMaxImageSide) + ", got " + std::to_string(x));
+            return x;
+        };
+        RenderSettings s;
+        s.width = side("width", width, scene.camera.width);
+        s.height = side("height", height, scene.camera.height);
+        if (spp < 1 || spp > int(gpu::kMaxSamplesPerPixel))
+            bad("spp: must be in 1.." + std::to_string(gpu::kMaxSamplesPerPixel) + ", got " + std::to_string(spp));
+        s.samplesPerPixel = spp;
+        if (aa != "adaptive" && aa != "uniform") bad("aa: must be 'adaptive' or 'uniform', got '" + aa + "'");
+        s.antiAliasing = aa == "uniform" ? AntiAliasing::Uniform : AntiAliasing::Adaptive;
+        if (aaThreshold) {
+            if (!std::isfinite(*aaThreshold) || *aaThreshold < 0 || *aaThreshold > 1)
+                bad("aa_threshold: must be in [0, 1], got " + py::str(py::float_(*aaThreshold)).cast<std::string>());
+            s.aaThreshold = float(*aaThreshold);
+        }
+        if (maxDepth < 0 || maxDepth > int(gpu::kMaxDepthLimit))
+            bad("max_depth: must be in 0.." + std::to_string(gpu::kMaxDepthLimit) + ", got " + std::to_string(maxDepth));
+        s.maxDepth = maxDepth;
+        if (aovBounces < 0 || aovBounces > int(gpu::kAovBouncesMax))
+            bad("aov_bounces: must be in 0.." + std::to_string(gpu::kAovBouncesMax) + ", got " + std::to_string(aovBounces));
+        std::string list;
+        if (py::isinstance<py::str>(aovsArg)) {
+            list = aovsArg.cast<std::string>();
+        } else {
+            for (py::handle h : aovsArg) list += (list.empty() ? "" : ",") + py::str(h).cast<std::string>();
+            if (list.empty()) list = "none";
+        }
+        std::vector<std::string> aovs;
+        try {
+            aovs = parseAovList(list, aovBounces);
+        } catch (const std::invalid_argument& e) {
+            bad(std::string("aovs: ") + e.what());
+        }
+        s.auxiliary = !aovs.empty();
+        s.aovBounces = hasSplitAov(aovs) ? aovBounces : 0;
+        if (region) {
+            const std::vector<int>& r = *region;
+            if (r.size() != 4) bad("region: must be (x0, y0, x1, y1), got " + std::to_string(r.size()) + " numbers");
+            if (r[0] < 0 || r[1] < 0 || r[2] > s.width || r[3] > s.height || r[0] >= r[2] || r[1] >= r[3])
+                bad("region: " + std::to_string(r[0]) + "," + std::to_string(r[1]) + "," + std::to_string(r[2]) + "," +
+                    std::to_string(r[3]) + " is empty or outside the " + std::to_string(s.width) + "x" +
+                    std::to_string(s.height) + " image");
+            s.region = PixelRegion{r[0], r[1], r[2], r[3]};
+        }
+        if (trace != "auto" && trace != "bvh" && trace != "rayquery")
+            bad("trace: must be 'auto', 'bvh' or 'rayquery', got '" + trace + "'");
+        s.trace = trace == "rayquery" ? TracePath::RayQuery : trace == "bvh" ? TracePath::Bvh : TracePath::Auto;
+
+        auto result = std::make_shared<Result>();
+        result->settings = s;
+        result->aovs = aovs;
+        result->scenePath = scene.sourcePath;
+        result->device = ctx_->deviceInfo();
+        // The renderer reads its own copy: the script may edit the scene
+        // (or render it elsewhere) while this render runs.
+        Scene copy = scene;
+        Versions versions = handle->versions;
+        uint64_t id = handle->id;
+        bool hasProgress = !progress.is_none();
+        ProgressCallback between = [&](double fraction) {
+            py::gil_scoped_acquire gil;
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+            if (hasProgress) progress(fraction);
+        };
+        {
+            py::gil_scoped_release release;
+            std::lock_guard lock(mutex_);
+            uint32_t messagesBefore = ctx_->validationMessageCount();
+            result->uploads = upload(copy, versions, id, s);
+            result->pixels.layout = renderer_->layout();
+            PixelSink sink(result->pixels);
+            result->stats = renderer_->renderTo(sink, between);
+            result->stats.layout = renderer_->layout();
+            if (ctx_->validationMessageCount() != messagesBefore)
+                throw std::runtime_error("the Vulkan validation layer reported " +
+                                         std::to_string(ctx_->validationMessageCount() - messagesBefore) +
+                                         " message(s) during this render");
+        }
+        return result;
+    }
+
+    py::dict device() const {
+        const DeviceInfo& d = ctx_->deviceInfo();
+        py::dict info;
+        info["index"] = d.index;
+        info["name"] = d.name;
+        info["type"] = d.type;
+        info["driver"] = d.driver;
+        info["ray_query"] = d.rayQuery;
+        return info;
+    }
+
+private:
+    // Brings the device's scene to `scene`: a new renderer when the settings
+    // (or the scene) changed, else only the parts whose counters moved.
+    nlohmann::json upload(const Scene& scene, const Versions& versions, uint64_t id, const RenderSettings& s) {
+        nlohmann::json u = {{"renderer", false}, {"geometry", false}, {"bvh", false},
+                            {"materials", false}, {"lights", false}, {"camera", false}};
+        if (!renderer_ || id != uploaded_.sceneId || !sameSettings(s, uploaded_.settings)) {
+            renderer_.reset();  // its device memory goes first
+            renderer_ = std::make_unique<Renderer>(*ctx_, scene, s);
+            for (auto& [key, value] : u.items()) value = true;
+        } else {
+            const Versions& was = uploaded_.versions;
+            if (versions.geometry != was.geometry) {
+                renderer_->setScene(scene);
+                u["geometry"] = u["bvh"] = u["materials"] = u["lights"] = u["camera"] = true;
+            } else {
+                if (versions.materials != was.materials) {
+                    if (!renderer_->setMaterials(scene)) {
+                        renderer_->setScene(scene);
+                        u["geometry"] = u["bvh"] = u["lights"] = u["camera"] = true;
+                    }
+                    u["materials"] = true;
+                }
+                if (versions.lights != was.lights && !u["lights"].get<bool>()) {
+                    renderer_->setLights(scene);
+                    u["lights"] = true;
+                }
+                if (versions.camera != was.camera && !u["camera"].get<bool>()) {
+                    renderer_->setCamera(scene.camera);
+                    u["camera"] = true;
+                }
+            }
+        }
+        uploaded_ = {id, versions, s};
+        return u;
+    }
+
+    std::unique_ptr<VulkanContext> ctx_;
+    std::unique_ptr<Renderer> renderer_;
+    Uploaded uploaded_;
+    std::mutex mutex_;  // one render at a time per renderer
+};
+
+py::list listDevices() {
+    py::list out;
+    for (const DeviceInfo& d : VulkanContext::listDevices()) {
+        py::dict info;
+        info["index"] = d.index;
+        info["name"] = d.name;
+        info["type"] = d.type;
+        info["driver"] = d.driver;
+        info["ray_query"] = d.rayQuery;
+        info["suitable"] = d.suitable;
+        if (!d.suitable) info["unsuitable"] = d.unsuitable;
+        out.append(info);
+    }
+    return out;
+}
+
+Tonemap tonemapFrom(const std::string& t) {
+    if (t == "clamp") return Tonemap::Clamp;
+    if (t == "seed") return Tonemap::Seed;
+    throw py::value_error("tonemap: must be 'clamp' or 'seed', got '" + t + "'");
+}
+
+}  // namespace
+
+void addRenderApi(py::module_& m) {
+    m.def("devices", &listDevices, "The Vulkan devices: dicts of index, name, type, driver, ray_query, suitable");
+
+    py::class_<Result, ResultRef>(m, "RenderResult", "What a render gives: the image, its auxiliary images, its record")
+        .def_property_readonly(
+            "image",
+            [](Result& r) {
+                if (!r.image) r.image = r.values("image");
+                return r.image;
+            },
+            "float32 (H, W, 3), linear: the values of the EXR `whitted render` writes")
+        .def_property_readonly(
+            "aovs",
+            [](Result& r) {
+                if (!r.aovArrays) {
+                    py::dict d;
+                    for (const std::string& name : r.aovs) d[py::str(name)] = r.values(name);
+                    r.aovArrays = d;
+                }
+                return r.aovArrays;
+            },
+            "name -> float32 array (H, W, 3) or (H, W), the values of the auxiliary EXR files")
+        .def_property_readonly(
+            "record",
+            [](Result& r) {
+                if (!r.record) r.record = py::module_::import("json").attr("loads")(r.recordJson({}, "clamp"));
+                return r.record;
+            },
+            "the render.json content, with 'uploads': what this render sent to the device")
+        .def_property_readonly("width", [](const Result& r) { return r.pixels.layout.region.width(); })
+        .def_property_readonly("height", [](const Result& r) { return r.pixels.layout.region.height(); })
+        .def(
+            "save",
+            [](const Result& r, const std::filesystem::path& path, const std::string& tonemap) {
+                Tonemap t = tonemapFrom(tonemap);
+                py::gil_scoped_release release;
+                return r.save(path, t);
+            },
+            py::arg("path"), py::arg("tonemap") = "clamp",
+            "Writes the files `whitted render -o path` writes (auxiliary images beside it, the record as .json); "
+            "returns the image paths")
+        .def("_repr_png_", [](const Result& r) {
+            // The PNG through the same writer, in a private temporary folder.
+            std::string tmpl = (std::filesystem::temp_directory_path() / "whitted-XXXXXX").string();
+            if (!::mkdtemp(tmpl.data())) throw std::runtime_error("cannot create a temporary folder");
+            std::filesystem::path dir = tmpl, png = dir / "image.png";
+            ImageFileSink sink(png, {}, Tonemap::Clamp, r.pixels.layout, r.settings.samplesPerPixel);
+            sink.writeBand(r.pixels.whole());
+            sink.finish();
+            std::ifstream in(png, std::ios::binary);
+            std::string bytes((std::istreambuf_iterator<char>(in)), {});
+            std::filesystem::remove_all(dir);
+            return py::bytes(bytes);
+        });
+
+    py::class_<PyRenderer>(m, "Renderer",
+                           "Holds a Vulkan device, the pipeline and the uploaded scene between renders. "
+                           "A renderer renders one scene at a time (calls from several threads wait in turn); "
+                           "renderers on different threads render at the same time.")
+        .def(py::init<std::optional<std::string>>(), py::arg("device") = py::none(),
+             "device: an index or a name substring as `whitted devices` lists them (None: the best)")
+        .def_property_readonly("device", &PyRenderer::device)
+        .def("render", &PyRenderer::render, py::arg("scene"), py::kw_only(), py::arg("width") = py::none(),
+             py::arg("height") = py::none(), py::arg("spp") = 16, py::arg("aa") = "adaptive",
+             py::arg("aa_threshold") = py::none(), py::arg("max_depth") = 6, py::arg("aovs") = py::tuple(),
+             py::arg("aov_bounces") = 0, py::arg("region") = py::none(), py::arg("trace") = "auto",
+             py::arg("progress") = py::none(),
+             "Renders the scene (the options of `whitted render`); returns a RenderResult. Releases the GIL; "
+             "progress(fraction) is called between bands, where Ctrl+C stops the render");
+}
+
+}  // namespace whitted::python

@@ -1,0 +1,249 @@
+# whitted as a Python module: the same pixels as the CLI, uploads of only
+# what changed, errors with the CLI's words, threads, Ctrl+C, memory, pip.
+import _thread
+import os
+import pathlib
+import subprocess
+import sys
+import threading
+
+import numpy as np
+import OpenImageIO as oiio
+import pytest
+import whitted
+
+from conftest import BUILD, ROOT, SCENES, run_cli
+
+SIZE = dict(width=64, height=48)
+
+
+def read_exr(path):
+    pixels = oiio.ImageBuf(str(path)).get_pixels(oiio.FLOAT)
+    return pixels[:, :, 0] if pixels.shape[2] == 1 else pixels
+
+
+@pytest.mark.parametrize("scene", SCENES, ids=lambda p: p.stem)
+def test_render_equals_cli_exr(scene, tmp_path):
+    status, err = run_cli("render", scene, "-o", tmp_path / "x.exr", "--width", 64, "--height", 48, "--aov", "all", "-q")
+    assert status == 0, err
+    result = whitted.render(str(scene), aovs="all", **SIZE)
+    assert result.image.dtype == np.float32 and result.image.shape == (48, 64, 3)
+    assert np.array_equal(result.image, read_exr(tmp_path / "x.exr"))
+    assert len(result.aovs) == 14
+    for name, values in result.aovs.items():
+        assert np.array_equal(values, read_exr(tmp_path / f"x.{name}.exr")), name
+    # save() writes the same files through the same writers.
+    (tmp_path / "py").mkdir()
+    written = [pathlib.Path(p) for p in result.save(tmp_path / "py" / "x.exr")]
+    assert sorted(p.name for p in written) == sorted(p.name for p in tmp_path.glob("x*.exr"))
+    for path in written:
+        assert np.array_equal(read_exr(path), read_exr(tmp_path / path.name)), path.name
+    assert (tmp_path / "py" / "x.json").exists()
+
+
+def test_region_and_split_aovs_equal_cli(tmp_path):
+    scene = ROOT / "scenes" / "showcase.xml"
+    status, err = run_cli("render", scene, "-o", tmp_path / "x.exr", "--width", 64, "--height", 48, "--region",
+                          "8,4,40,30", "--aov", "reflection.1,reflection.2,depth", "--aov-bounces", 2,
+                          "--aa", "uniform", "--spp", 4, "-q")
+    assert status == 0, err
+    result = whitted.render(str(scene), region=(8, 4, 40, 30), aovs=("reflection.1", "reflection.2", "depth"),
+                            aov_bounces=2, aa="uniform", spp=4, **SIZE)
+    assert result.image.shape == (26, 32, 3)
+    assert np.array_equal(result.image, read_exr(tmp_path / "x.exr"))
+    for name in ("reflection.1", "reflection.2", "depth"):
+        assert np.array_equal(result.aovs[name], read_exr(tmp_path / f"x.{name}.exr")), name
+
+
+def test_record_and_png(renderer):
+    result = renderer.render(whitted.load(ROOT / "scenes" / "one_mirror.xml"), **SIZE)
+    record = result.record
+    assert (record["settings"]["width"], record["settings"]["height"], record["settings"]["spp"]) == (64, 48, 16)
+    assert record["scene"].endswith("one_mirror.xml") and record["rays"]
+    assert set(record["uploads"]) >= {"geometry", "bvh", "materials", "lights", "camera"}
+    assert result._repr_png_().startswith(b"\x89PNG\r\n\x1a\n")
+
+
+def same_result(a, b):
+    assert np.array_equal(a.image, b.image)
+    for name in a.aovs:
+        assert np.array_equal(a.aovs[name], b.aovs[name]), name
+
+
+def test_camera_edit_uploads_no_geometry(renderer):
+    scene = whitted.load(ROOT / "scenes" / "room.xml")
+    renderer.render(scene, aovs=("depth", "normal"), **SIZE)
+    x, y, z = scene.camera.position
+    scene.camera.position = (x + 0.3, y - 0.1, z + 0.2)
+    scene.camera.fov = 50
+    edited = renderer.render(scene, aovs=("depth", "normal"), **SIZE)
+    uploads = edited.record["uploads"]
+    assert uploads["camera"] and not uploads["geometry"] and not uploads["bvh"] and not uploads["renderer"]
+    fresh = whitted.Renderer().render(scene.copy(), aovs=("depth", "normal"), **SIZE)
+    assert fresh.record["uploads"]["geometry"]
+    same_result(edited, fresh)
+
+
+@pytest.mark.parametrize("field,value", [("diffuse", 0.25), ("diffuse_color", (0.9, 0.2, 0.1)),
+                                         ("transmission", 0.5), ("reflection", 0.4)])
+def test_material_edit_rebuilds_no_bvh(renderer, field, value):
+    scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
+    renderer.render(scene, aovs=("diffuse",), **SIZE)
+    setattr(scene.objects[0], field, value)
+    edited = renderer.render(scene, aovs=("diffuse",), **SIZE)
+    uploads = edited.record["uploads"]
+    assert uploads["materials"] and not uploads["geometry"] and not uploads["bvh"] and not uploads["camera"]
+    fresh = whitted.Renderer().render(scene.copy(), aovs=("diffuse",), **SIZE)
+    same_result(edited, fresh)
+    assert getattr(scene.objects[0], field) == value
+
+
+def test_light_and_geometry_edits(renderer):
+    scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
+    renderer.render(scene, **SIZE)
+    scene.lights[0].color = (0.5, 0.5, 0.2)
+    lit = renderer.render(scene, **SIZE)
+    assert lit.record["uploads"]["lights"] and not lit.record["uploads"]["geometry"]
+    same_result(lit, whitted.Renderer().render(scene.copy(), **SIZE))
+    x, y, z = scene.objects[0].position
+    scene.objects[0].position = (x + 0.2, y, z)
+    moved = renderer.render(scene, **SIZE)
+    assert moved.record["uploads"]["geometry"] and moved.record["uploads"]["bvh"]
+    same_result(moved, whitted.Renderer().render(scene.copy(), **SIZE))
+
+
+def test_save_and_reload(tmp_path):
+    scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
+    scene.objects[1].diffuse = 0.125
+    scene.save(tmp_path / "s.xml")
+    assert whitted.load(tmp_path / "s.xml").objects[1].diffuse == 0.125
+
+
+BAD = ["coef_above_one.xml", "colour_above_one.xml", "csg_one_child.xml", "camera_at_window.xml",
+       "box_flat.xml", "binary_garbage.xml"]
+
+
+@pytest.mark.parametrize("name", BAD)
+def test_scene_error_matches_cli(name):
+    path = ROOT / "tests" / "bad_scenes" / name
+    status, err = run_cli("render", path, "-o", "/nonexistent-folder/x.png", "-q")
+    assert status == 2
+    with pytest.raises(whitted.SceneError) as caught:
+        whitted.load(path)
+    e = caught.value
+    assert str(e) == err.splitlines()[0]
+    assert e.file == str(path)
+    assert str(e) == (f"{e.file}:{e.line}: {e.message}" if e.line > 0 else f"{e.file}: {e.message}")
+    assert isinstance(e, ValueError)
+
+
+def test_loads_error_has_line():
+    with pytest.raises(whitted.SceneError) as caught:
+        whitted.loads("<scene>\n<camera>\n</scene>\n", base_dir="/tmp")  # the unclosed <camera>
+    assert caught.value.line == 2 and caught.value.file == "/tmp/<string>"
+
+
+@pytest.mark.parametrize("options,words", [
+    (dict(spp=-1), "spp"), (dict(spp=0), "spp"), (dict(aovs=("bogus",)), "bogus"),
+    (dict(region=(0, 0, 100, 10)), "region"), (dict(region=(5, 5, 5, 9)), "region"),
+    (dict(aa="best"), "aa"), (dict(max_depth=-2), "max_depth"), (dict(aa_threshold=float("nan")), "aa_threshold"),
+    (dict(width=0), "width"), (dict(aovs=("reflection.3",), aov_bounces=2), "reflection.3"),
+])
+def test_bad_options_raise_value_error(renderer, options, words):
+    scene = whitted.load(ROOT / "scenes" / "one_mirror.xml")
+    with pytest.raises(ValueError, match=words.replace(".", r"\.")):
+        renderer.render(scene, **{**SIZE, **options})
+
+
+@pytest.mark.parametrize("target,field,value,words", [
+    ("object", "diffuse", 1.5, r"Object\.diffuse: must be in \[0, 1\], got 1\.5"),
+    ("object", "ior", 50, r"Object\.ior"), ("object", "diffuse_color", (2, 0, 0), r"Object\.diffuse_color"),
+    ("object", "radius", -1, r"Object\.radius"), ("object", "shininess", -3, r"Object\.shininess"),
+    ("camera", "fov", 0, r"Camera\.fov"), ("camera", "fov", 180, r"Camera\.fov"),
+    ("camera", "width", 0, r"Camera\.width"), ("camera", "projection", "orthographic", r"Camera\.projection"),
+    ("camera", "up", (0, 0, 0), r"Camera\.up"), ("light", "intensity", -1, r"Light\.intensity"),
+])
+def test_bad_field_values_raise_value_error(target, field, value, words):
+    scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
+    obj = {"object": scene.objects[0], "camera": scene.camera, "light": scene.lights[0]}[target]
+    before = getattr(obj, field)
+    with pytest.raises(ValueError, match=words):
+        setattr(obj, field, value)
+    assert getattr(obj, field) == before
+
+
+def rss_mib():
+    with open("/proc/self/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1]) / 1024
+
+
+def test_memory_steady_over_300_renders(renderer):
+    scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
+    for i in range(300):
+        scene.camera.fov = 50 + (i % 10)
+        result = renderer.render(scene, width=16, height=12, aovs=("depth",))
+        assert result.image.shape == (12, 16, 3)
+        if i == 9:
+            after_ten = rss_mib()
+    assert rss_mib() - after_ten < 20
+
+
+def test_two_renderers_on_two_threads():
+    names = ["room.xml", "showcase.xml"]
+    scenes = [whitted.load(ROOT / "scenes" / n) for n in names]
+    one_after_other = [whitted.Renderer().render(s, aovs=("depth",), **SIZE) for s in scenes]
+    results = [None, None]
+
+    def work(i):
+        results[i] = whitted.Renderer().render(scenes[i], aovs=("depth",), **SIZE)
+
+    threads = [threading.Thread(target=work, args=(i,)) for i in range(2)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    for a, b in zip(one_after_other, results):
+        same_result(a, b)
+
+
+LONG = dict(width=1024, height=1024, aovs="all", aa="uniform", spp=1)  # several bands
+
+
+def test_progress_between_bands(renderer):
+    fractions = []
+    renderer.render(whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml"), progress=fractions.append, **LONG)
+    assert len(fractions) > 1 and fractions == sorted(fractions) and fractions[-1] == 1.0
+
+
+def test_keyboard_interrupt_leaves_renderer_usable(renderer):
+    scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
+    seen = []
+
+    def ctrl_c(fraction):  # Ctrl+C arrives while the render runs
+        seen.append(fraction)
+        if len(seen) == 1:
+            _thread.interrupt_main()
+
+    with pytest.raises(KeyboardInterrupt):
+        renderer.render(scene, progress=ctrl_c, **LONG)
+    assert seen[-1] < 1.0  # stopped between bands, before the end
+    again = renderer.render(scene, aovs=("depth",), **SIZE)
+    same_result(again, whitted.Renderer().render(scene.copy(), aovs=("depth",), **SIZE))
+
+
+@pytest.mark.skipif(os.environ.get("WHITTED_SKIP_PIP_TEST") == "1", reason="WHITTED_SKIP_PIP_TEST=1")
+def test_pip_install_into_fresh_venv(tmp_path):
+    venv = tmp_path / "venv"
+    subprocess.run(["/usr/bin/python3", "-m", "venv", "--system-site-packages", str(venv)], check=True)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
+    install = subprocess.run([str(venv / "bin" / "pip"), "install", "--no-build-isolation", "--no-index", str(ROOT)],
+                             env=env, capture_output=True, text=True, timeout=3000)
+    assert install.returncode == 0, install.stdout[-3000:] + install.stderr[-3000:]
+    check = subprocess.run([str(venv / "bin" / "python"), "-c",
+                            "import whitted; r = whitted.render('scenes/room.xml', width=32, height=24); "
+                            "print(whitted.__file__, r.image.shape)"],
+                           cwd=ROOT, env=env, capture_output=True, text=True, timeout=600)
+    assert check.returncode == 0, check.stderr
+    assert str(venv) in check.stdout and "(24, 32, 3)" in check.stdout
