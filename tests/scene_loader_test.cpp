@@ -769,8 +769,11 @@ std::vector<BadCase> objectCases() {
         {"UnknownInPolygons", sceneWith(objectOf("mesh", "<polygons>\n<poly/></polygons>")),
          "t.xml:13: unknown element <poly> in <polygons>; expected polygon"},
         {"UnknownInPolygon",
-         sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "\n<normal/></polygon></polygons>")),
-         "t.xml:13: unknown element <normal> in <polygon>; expected one of: vertex, uv"},
+         sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "\n<tangent/></polygon></polygons>")),
+         "t.xml:13: unknown element <tangent> in <polygon>; expected one of: vertex, uv, normal"},
+        {"PolygonNormalCount",
+         sceneWith(objectOf("mesh", "<polygons><polygon>" + triangle3 + "\n<normal x=\"0\" y=\"0\" z=\"1\"/></polygon></polygons>")),
+         "t.xml:12: <polygon> has 1 <normal>, expected 3 (one per <vertex>)"},
         {"TwoVertexPolygon",
          sceneWith(objectOf("mesh",
                             "<polygons>\n<polygon><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1\" y=\"0\" z=\"0\"/>"

@@ -19,6 +19,11 @@ struct TextureData {
     std::string name;                  // as the scene (or model file) gives it, for messages
     std::vector<TextureLevel> levels;  // level 0 the file itself, each next one half the size, down to 1x1
     bool srgbDecoded = false;          // the file was sRGB-encoded and decoded on reading
+    // A texture decoded from bytes inside another file (a .glb's image): those
+    // bytes and their format ("png", "jpg"), so that `whitted convert` can
+    // write them out as a file of their own; empty for a texture file.
+    std::vector<unsigned char> encoded;
+    std::string encodedFormat;
 };
 
 }  // namespace whitted

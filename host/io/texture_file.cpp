@@ -112,7 +112,10 @@ TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::s
     std::string reason;
     if (!imageLibrary().readMemory(bytes, format, int(gpu::kMaxImageSide), image, reason))
         throw TextureFileError("could not be read: " + reason);
-    return fromDecoded(image, encoding, name);
+    TextureData data = fromDecoded(image, encoding, name);
+    data.encoded.assign(bytes.begin(), bytes.end());
+    data.encodedFormat = format;
+    return data;
 }
 
 TextureData textureFromPixels(int width, int height, std::span<const float> rgba, const std::string& name) {

@@ -79,7 +79,6 @@ AovSpec findSpec(const std::string& name, uint32_t bounces) {
     throw std::invalid_argument("unknown auxiliary image '" + name + "'");
 }
 
-// Values per pixel in an image file: colours and normals 3, the rest 1.
 // Channels of an image file: colours and normals 3; an id mask 3 in 8-bit
 // files (its hash colour), 1 in float files (the id itself).
 int channelCount(const AovSpec& spec, bool isFloat) {
@@ -375,6 +374,8 @@ std::vector<float> floatImageValues(const BandView& band, const std::string& nam
                                     int& channels) {
     AovSpec spec = name == "image" ? AovSpec{{"image", "the image"}, AovKind::Color, gpu::kAovColor, 0, 1}
                                    : findSpec(name, uint32_t(bounces));
+    // The id layer follows the split layers (ImageLayout::idLayer).
+    if (spec.kind == AovKind::Id) spec.layer = gpu::kAovCount + 2 * uint32_t(bounces);
     channels = channelCount(spec, true);
     std::vector<float> v;
     bandValues(spec, band, channels, true, 0.0f, maxSamples, 1.0f, v);

@@ -79,6 +79,7 @@ struct Result {
     RenderSettings settings;
     std::vector<std::string> aovs;
     std::filesystem::path scenePath;
+    std::shared_ptr<const Scene> masksScene;  // with object_id/material_id: the record's legend
     DeviceInfo device;
     nlohmann::json uploads;
     double loadSeconds = 0;
@@ -88,16 +89,21 @@ struct Result {
         nlohmann::json j = nlohmann::json::parse(renderRecordJson({.scenePath = scenePath, .settings = settings,
                                                                    .tonemap = tonemap, .device = device, .sharedWith = {},
                                                                    .result = &stats, .files = files,
-                                                                   .loadSeconds = loadSeconds}));
+                                                                   .loadSeconds = loadSeconds,
+                                                                   .masks = masksScene.get()}));
         j["uploads"] = uploads;
         return j.dump(2) + "\n";
     }
-    py::array_t<float> values(const std::string& name) const {
+    py::array values(const std::string& name) const {
         int channels = 0;
         std::vector<float> v = floatImageValues(pixels.whole(), name, settings.aovBounces, settings.samplesPerPixel, channels);
         std::vector<py::ssize_t> shape = {pixels.layout.region.height(), pixels.layout.region.width()};
         if (channels > 1) shape.push_back(channels);
-        return ownedArray(std::move(v), shape);
+        py::array_t<float> array = ownedArray(std::move(v), shape);
+        // The masks hold the ids' bits (the EXR's UINT channel): the same
+        // memory seen as uint32, no copy.
+        if (name == "object_id" || name == "material_id") return array.view("uint32");
+        return array;
     }
     // The files of `whitted render -o path`, through the same writers.
     std::vector<std::filesystem::path> save(const std::filesystem::path& path, Tonemap tonemap) const {
@@ -185,6 +191,7 @@ public:
         }
         s.auxiliary = !aovs.empty();
         s.aovBounces = hasSplitAov(aovs) ? aovBounces : 0;
+        s.ids = hasIdAov(aovs);
         if (region) {
             const std::vector<int>& r = *region;
             if (r.size() != 4) bad("region: must be (x0, y0, x1, y1), got " + std::to_string(r.size()) + " numbers");
@@ -206,6 +213,7 @@ public:
         // The renderer reads its own copy: the script may edit the scene
         // (or render it elsewhere) while this render runs.
         Scene copy = scene;
+        if (s.ids) result->masksScene = std::make_shared<const Scene>(scene);
         Versions versions = handle->versions;
         uint64_t id = handle->id;
         bool hasProgress = !progress.is_none();

@@ -87,9 +87,9 @@ Mesh readMesh(const Diagnostics& diag, const XMLElement* e, const Placement& pla
     ElementReader polygons(diag, e, {{"polygon", true}});
     if (polygons.all("polygon").empty()) diag.fail(e, "<polygons> has no <polygon>; a mesh needs at least one");
     Mesh mesh;
-    std::optional<bool> withUv;  // from the first polygon
+    std::optional<bool> withUv, withNormals;  // from the first polygon
     for (const XMLElement* polygon : polygons.all("polygon")) {
-        ElementReader vertices(diag, polygon, {{"vertex", true}, {"uv", true}});
+        ElementReader vertices(diag, polygon, {{"vertex", true}, {"uv", true}, {"normal", true}});
         Triangle local = readTriangle(diag, polygon, vertices.all("vertex"), glm::dvec3(0));
         // Texture coordinates: one <uv u=".." v=".."/> per vertex, in
         // the vertices' order, on every polygon or on none.
@@ -105,6 +105,25 @@ Mesh readMesh(const Diagnostics& diag, const XMLElement* e, const Placement& pla
             auto c = components(diag, uvs[k], {{"u", kAnyValue}, {"v", kAnyValue}});
             uv[k] = {c[0], c[1]};
         }
+        // Vertex normals (smooth shading): one <normal x y z/> per vertex,
+        // in the vertices' order, on every polygon or on none; what a model
+        // file's mesh carries, so that a converted one shades the same.
+        const std::vector<const XMLElement*>& normals = vertices.all("normal");
+        if (!normals.empty() && normals.size() != 3)
+            diag.fail(polygon,
+                      "<polygon> has " + std::to_string(normals.size()) + " <normal>, expected 3 (one per <vertex>)");
+        if (withNormals && *withNormals == normals.empty())
+            diag.fail(polygon, normals.empty() ? "<polygon> has no <normal>, but the first <polygon> has"
+                                               : "<polygon> has <normal>, but the first <polygon> has none");
+        withNormals = !normals.empty();
+        std::array<glm::dvec3, 3> normal{};
+        for (size_t k = 0; k < normals.size(); ++k) {
+            // A unit normal is used as written (normalising it again could
+            // move its last bit); any other is normalised.
+            glm::dvec3 n = vector(diag, normals[k]);
+            if (std::abs(glm::length(n) - 1.0) > 1e-9) n = direction(diag, normals[k]);
+            normal[k] = placement.normal(n);
+        }
         for (const glm::dvec3& v : {local.v0, local.v1, local.v2})
             if (!placement.inRange(v)) diag.fail(polygon, outOfRange(v));
         Triangle t{placement.point(local.v0), placement.point(local.v1), placement.point(local.v2)};
@@ -114,6 +133,7 @@ Mesh readMesh(const Diagnostics& diag, const XMLElement* e, const Placement& pla
         }
         mesh.triangles.push_back(t);
         if (!uvs.empty()) mesh.uvs.push_back(uv);
+        if (!normals.empty()) mesh.normals.push_back(normal);
     }
     if (mesh.triangles.empty()) diag.fail(e, "every <polygon> in <polygons> is degenerate");
     return mesh;

@@ -226,6 +226,8 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                     if (!s.uvs.empty())
                         for (const glm::dvec2& uv : s.uvs[i])
                             x.line("<uv u=\"" + number(uv.x) + "\" v=\"" + number(uv.y) + "\"/>");
+                    if (!s.normals.empty())
+                        for (const glm::dvec3& n : s.normals[i]) x.vector("normal", n);
                     x.close("polygon");
                 }
                 x.close("polygons");

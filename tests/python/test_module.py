@@ -18,7 +18,10 @@ SIZE = dict(width=64, height=48)
 
 
 def read_exr(path):
-    pixels = oiio.ImageBuf(str(path)).get_pixels(oiio.FLOAT)
+    image = oiio.ImageInput.open(str(path))
+    # The masks' EXR channel is UINT: read as the ids themselves.
+    pixels = image.read_image("uint" if image.spec().format == oiio.TypeDesc("uint") else "float")
+    image.close()
     return pixels[:, :, 0] if pixels.shape[2] == 1 else pixels
 
 
@@ -29,9 +32,12 @@ def test_render_equals_cli_exr(scene, tmp_path):
     result = whitted.render(str(scene), aovs="all", **SIZE)
     assert result.image.dtype == np.float32 and result.image.shape == (48, 64, 3)
     assert np.array_equal(result.image, read_exr(tmp_path / "x.exr"))
-    assert len(result.aovs) == 14
+    assert len(result.aovs) == 16  # 14 images and the two masks
+    for name in ("object_id", "material_id"):
+        assert result.aovs[name].dtype == np.uint32, name
     for name, values in result.aovs.items():
-        assert np.array_equal(values, read_exr(tmp_path / f"x.{name}.exr")), name
+        expected = read_exr(tmp_path / f"x.{name}.exr")
+        assert values.dtype == expected.dtype and np.array_equal(values, expected), name
     # save() writes the same files through the same writers.
     (tmp_path / "py").mkdir()
     written = [pathlib.Path(p) for p in result.save(tmp_path / "py" / "x.exr")]

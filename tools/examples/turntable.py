@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""A turntable: N frames around a model (or scene), each as PNGs with depth and normals.
+"""A turntable: N frames around a model (or scene), each as PNGs with depth, normals and object masks.
 
   PYTHONPATH=build/python tools/examples/turntable.py MODEL.glb OUT_DIR [--frames 24] [--size 320x240]
 """
@@ -27,6 +27,6 @@ for frame in range(args.frames):
     angle = math.atan2(offset[2], offset[0]) + 2 * math.pi * frame / args.frames
     scene.camera.position = (centre[0] + radius * math.cos(angle), centre[1] + lift,
                              centre[2] + radius * math.sin(angle))  # only the camera is uploaded again
-    result = renderer.render(scene, width=width, height=height, aovs=("depth", "normal"))
-    result.save(args.out / f"frame{frame:03d}.png")  # frameNNN.png, .depth.png, .normal.png, .json
+    result = renderer.render(scene, width=width, height=height, aovs=("depth", "normal", "object_id"))
+    result.save(args.out / f"frame{frame:03d}.png")  # frameNNN.png, .depth.png, .normal.png, .object_id.png, .json
     print(f"frame {frame + 1}/{args.frames}: {result.record['timings_s']['render']:.3f} s")
