@@ -73,6 +73,17 @@ py::array_t<float> ownedArray(std::vector<float>&& values, std::vector<py::ssize
     return py::array_t<float>(shape, held->data(), owner);
 }
 
+// What whitted.devices() and Renderer.device give for a device.
+py::dict deviceDict(const DeviceInfo& d) {
+    py::dict info;
+    info["index"] = d.index;
+    info["name"] = d.name;
+    info["type"] = d.type;
+    info["driver"] = d.driver;
+    info["ray_query"] = d.rayQuery;
+    return info;
+}
+
 struct Result {
     Pixels pixels;
     RenderResult stats;
@@ -239,16 +250,7 @@ public:
         return result;
     }
 
-    py::dict device() const {
-        const DeviceInfo& d = ctx_->deviceInfo();
-        py::dict info;
-        info["index"] = d.index;
-        info["name"] = d.name;
-        info["type"] = d.type;
-        info["driver"] = d.driver;
-        info["ray_query"] = d.rayQuery;
-        return info;
-    }
+    py::dict device() const { return deviceDict(ctx_->deviceInfo()); }
 
 private:
     // Brings the device's scene to `scene`: a new renderer when the settings
@@ -296,12 +298,7 @@ private:
 py::list listDevices() {
     py::list out;
     for (const DeviceInfo& d : VulkanContext::listDevices()) {
-        py::dict info;
-        info["index"] = d.index;
-        info["name"] = d.name;
-        info["type"] = d.type;
-        info["driver"] = d.driver;
-        info["ray_query"] = d.rayQuery;
+        py::dict info = deviceDict(d);
         info["suitable"] = d.suitable;
         if (!d.suitable) info["unsuitable"] = d.unsuitable;
         out.append(info);
