@@ -37,6 +37,10 @@ holds each driver's PSNR against the first driver's default render).
 Window proxy: `whitted render room.xml --width 640 --height 360 --aa uniform --spp 1 --aov none`, 5 times per
 driver, render time from the record (the live window's frame during a camera drag traces this much).
 
+Warm start: `whitted render room.xml --width 8 --height 8 --aov none` after one untimed run, 7 times per driver into a
+PPM (which whitted writes without loading OpenImageIO) and into a PNG (which loads it), whole-process wall time: the
+fixed cost of a render on a machine that has run it before.
+
 Drivers: --driver-files ICD.json (repeatable; `default` = the Vulkan loader's choice) runs whitted with
 VK_DRIVER_FILES=ICD.json and LD_LIBRARY_PATH prefixed by the folder of the JSON's absolute ICD.library_path; --label
 names it (default: from the driver whitted reports, e.g. mesa-25.0.7). Every driver's whitted runs are interleaved
@@ -61,8 +65,8 @@ sys.dont_write_bytecode = True  # a run leaves no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # tools/bench, from any working directory
 from bench import ROOT, fail  # noqa: E402 (after the path is set)
 from bench.check import quick_check  # noqa: E402
-from bench.parts import Bench, drag_proxy, run_scenes  # noqa: E402
-from bench.plan import DRAG_REPEATS, Plan, equal_quality_sizes, scene_set, size_set  # noqa: E402
+from bench.parts import Bench, drag_proxy, run_scenes, warm_start  # noqa: E402
+from bench.plan import DRAG_REPEATS, STARTUP_REPEATS, Plan, equal_quality_sizes, scene_set, size_set  # noqa: E402
 from bench.report import cpu_model, document, publish  # noqa: E402
 from bench.runners import Driver  # noqa: E402
 
@@ -179,10 +183,13 @@ def main():
     drag = None
     if plan.fixed and "room" in plan.scenes:
         drag = drag_proxy(bench, 1 if plan.quick else DRAG_REPEATS)
+    warm = None
+    if plan.fixed and "room" in plan.scenes:
+        warm = warm_start(bench, 1 if plan.quick else STARTUP_REPEATS)
     elapsed = time.monotonic() - started
 
     documents = {d.label: document(d, drivers, cpu, plan, elapsed, results[d.label], eq_results[d.label],
-                                   drag and drag[d.label]) for d in drivers}
+                                   drag and drag[d.label], warm and warm[d.label]) for d in drivers}
     publish(documents, out, elapsed)
     if plan.quick:
         quick_check(documents, out, plan)

@@ -9,7 +9,7 @@ import statistics
 import sys
 
 from .measures import clean, psnr
-from .plan import (DRAG_SIZE, MAX_DEPTH, POVRAY_ADAPTIVE, POVRAY_REFERENCE, POVRAY_THRESHOLDS, PSNR_TARGET_DB, ROOM,
+from .plan import (DRAG_SIZE, STARTUP_SIZE, MAX_DEPTH, POVRAY_ADAPTIVE, POVRAY_REFERENCE, POVRAY_THRESHOLDS, PSNR_TARGET_DB, ROOM,
                    WHITTED_REFERENCE, WHITTED_TRIES, povray_fixed_antialias)
 from .runners import export_pov, make_scene, povray_version, run_anchor, run_povray, run_whitted, sha256_file
 
@@ -212,3 +212,30 @@ def drag_proxy(bench, repeats):
     return {d.label: {"scene": "room", "width": width, "height": height, "spp": 1, "render_s": times[d.label],
                       "render_median_s": statistics.median(times[d.label]), "render_min_s": min(times[d.label]),
                       "wall_median_s": statistics.median(walls[d.label])} for d in bench.drivers}
+
+
+def warm_start(bench, repeats):
+    """Whole-process wall time of a warm 8x8 render of the room (default sampling, --aov none): the fixed cost of a
+    render. One untimed run first warms the caches (Mesa's and the pipeline cache); then `repeats` runs into a PPM
+    (written without the image library) and into a PNG (which loads it), interleaved between drivers."""
+    progress("warm start")
+    width, height = STARTUP_SIZE
+    out = {}
+    for d in bench.drivers:
+        run_whitted(bench.whitted, d, ROOM, os.path.join(bench.work, f"warm_{d.label}.ppm"), width, height, [])
+    walls = {(d.label, ext): [] for d in bench.drivers for ext in ("ppm", "png")}
+    stages = {(d.label, ext): [] for d in bench.drivers for ext in ("ppm", "png")}
+    for _ in range(repeats):
+        for d in bench.drivers:
+            for ext in ("ppm", "png"):
+                result = run_whitted(bench.whitted, d, ROOM, os.path.join(bench.work, f"warm_{d.label}.{ext}"),
+                                     width, height, [])
+                walls[(d.label, ext)].append(result["wall_s"])
+                stages[(d.label, ext)].append(result.get("pipeline_s"))
+    for d in bench.drivers:
+        out[d.label] = {"scene": "room", "width": width, "height": height, "sampling": "default", "aov": "none"}
+        for ext in ("ppm", "png"):
+            w = walls[(d.label, ext)]
+            out[d.label][ext] = {"wall_s": w, "wall_median_s": statistics.median(w), "wall_min_s": min(w),
+                                 "pipeline_s": stages[(d.label, ext)]}
+    return out

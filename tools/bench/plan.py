@@ -17,6 +17,8 @@ POVRAY_THRESHOLDS = [0.3, 0.1, 0.03, 0.01]
 POVRAY_ADAPTIVE = ["+AM2", "+R3"]
 DRAG_SIZE = (640, 360)
 DRAG_REPEATS = 5
+STARTUP_SIZE = (8, 8)  # the warm-start part: the fixed cost of a render
+STARTUP_REPEATS = 7
 
 
 @dataclasses.dataclass

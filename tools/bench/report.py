@@ -27,7 +27,7 @@ def cpu_model():
     return model or platform.processor() or "?", flags or []
 
 
-def document(driver, drivers, cpu, plan, elapsed, results, equal_quality, drag):
+def document(driver, drivers, cpu, plan, elapsed, results, equal_quality, drag, warm):
     """One driver's document: the machine, the driver, its results, the ratios and the targets' verdicts."""
     model, simd = cpu
     out = {"created": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "host": platform.node(),
@@ -35,7 +35,7 @@ def document(driver, drivers, cpu, plan, elapsed, results, equal_quality, drag):
            "threads": THREADS, "label": driver.label, "driver": driver.driver, "device": driver.device,
            "driver_files": driver.files, "ld_library_path": driver.env.get("LD_LIBRARY_PATH") if driver.files else None,
            "drivers_in_run": [x.label for x in drivers], "benchmark_wall_s": elapsed,
-           "results": results, "equal_quality": equal_quality, "drag_proxy": drag,
+           "results": results, "equal_quality": equal_quality, "drag_proxy": drag, "warm_start": warm,
            "ratios": ratios(results, plan.sizes)}
     out["targets"] = targets(out)
     return out
@@ -83,6 +83,11 @@ def print_summary(document):
         print(f"drag proxy  {drag['width']}x{drag['height']} 1 spp render: "
               f"median {drag['render_median_s'] * 1000:.0f} ms, fastest {drag['render_min_s'] * 1000:.0f} ms "
               f"of {len(drag['render_s'])}", flush=True)
+    warm = document.get("warm_start")
+    if warm:
+        print(f"warm start  {warm['width']}x{warm['height']} whole process: PPM median "
+              f"{warm['ppm']['wall_median_s'] * 1000:.0f} ms, PNG median {warm['png']['wall_median_s'] * 1000:.0f} ms "
+              f"of {len(warm['ppm']['wall_s'])}", flush=True)
     for name, value in document["ratios"].items():
         print(f"{name}: {value:.2f}", flush=True)
     for t in document["targets"]:
