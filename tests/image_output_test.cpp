@@ -6,7 +6,10 @@
 
 #include <bit>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <limits>
+#include <utility>
 
 namespace whitted::test {
 namespace {
@@ -126,6 +129,58 @@ TEST(ImageLibrary, RenderCommandRefusesAnUnknownFormatAndWritesNothing) {
     EXPECT_EQ(run.status, 2) << run.output;
     EXPECT_NE(run.output.find("cannot write images of type '.notanimageformat'"), std::string::npos) << run.output;
     EXPECT_TRUE(fs::is_empty(dir));
+}
+
+// PPM and PGM are written without the image module: the same bytes as the
+// module writes for the same pixels, 3 channels (P6) and 1 (P5).
+TEST(ImageOutput, PpmAndPgmAreTheModulesBytes) {
+    fs::path dir = freshDir("pnm");
+    auto bytesOf = [](const fs::path& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    for (auto [name, channels] : {std::pair{"a.ppm", 3}, std::pair{"b.ppm", 1}, std::pair{"c.pgm", 1}}) {
+        const int width = 5, height = 3;
+        std::vector<float> pixels(size_t(width * height * channels));
+        for (size_t i = 0; i < pixels.size(); ++i) pixels[i] = float(i) / float(pixels.size() - 1);
+        writeImage(dir / name, width, height, channels, pixels, PixelEncoding::Srgb8);
+
+        std::vector<unsigned char> codes(pixels.size());
+        for (size_t i = 0; i < pixels.size(); ++i) codes[i] = encode8(pixels[i], PixelEncoding::Srgb8);
+        std::string error;
+        fs::path reference = dir / ("module-" + std::string(name));
+        auto writer = imageLibrary().openWriter(
+            reference.string(), ImageFileSpec{.width = width, .height = height, .channels = channels, .srgb = true,
+                                              .window = {}},
+            error);
+        ASSERT_NE(writer, nullptr) << error;
+        ASSERT_TRUE(writer->writeRows(0, height, codes.data(), error)) << error;
+        ASSERT_TRUE(writer->close(error)) << error;
+        std::vector<char> ours = bytesOf(dir / name), theirs = bytesOf(reference);
+        EXPECT_FALSE(ours.empty()) << name;
+        EXPECT_EQ(ours, theirs) << name;
+    }
+}
+
+// A render into PPM files never loads the image module (its load costs more
+// than a small render): the dynamic loader's list of the files it opened
+// does not name it, while a PNG render's does.
+TEST(ImageLibrary, PpmRenderDoesNotLoadTheModule) {
+#ifdef WHITTED_IMAGE_LIBRARY_STATIC
+    GTEST_SKIP() << "the sanitizer build links OpenImageIO in (CMakeLists.txt, WHITTED_SANITIZE)";
+#endif
+    fs::path dir = freshOutputDir("image_library", "ppm_render");
+    for (const char* name : {"x.ppm", "x.png"}) {
+        CommandRun run = runCommand("LD_DEBUG=files '" WHITTED_EXECUTABLE
+                                    "' render scenes/room.xml --width 8 --height 6 -q --aov depth -o '" +
+                                        (dir / name).string() + "'",
+                                    sourceDir());
+        ASSERT_EQ(run.status, 0) << run.output;
+        EXPECT_NE(run.output.find("libvulkan"), std::string::npos) << "the loader's list was read";
+        bool loaded = run.output.find("whitted_image_io") != std::string::npos;
+        EXPECT_EQ(loaded, std::string(name) == "x.png") << name;
+        EXPECT_TRUE(fs::exists(dir / name)) << name;
+    }
 }
 
 }  // namespace

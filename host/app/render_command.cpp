@@ -120,8 +120,10 @@ int runRenderCommand(const RenderCommandOptions& options) {
         const DeviceInfo& d = contexts.back()->deviceInfo();
         if (!options.quiet) std::cerr << "whitted: device " << d.name << " (" << d.type << ", " << d.driver << ")\n";
     }
-    // The image module loads beside the pipeline build when a core is idle.
-    preloadImageLibrary();
+    // The image module loads beside the pipeline build when a core is idle,
+    // unless the images go where it is not needed (PPM, PGM; a scene's
+    // textures loaded it already).
+    if (!options.output || !writtenWithoutImageLibrary(*options.output)) preloadImageLibrary();
     VulkanContext& ctx = *contexts.front();
     auto validationMessages = [&] {
         uint32_t n = 0;

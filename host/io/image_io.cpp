@@ -7,6 +7,8 @@
 #include <bit>
 #include <cstdint>
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -58,6 +60,43 @@ private:
 
 const SrgbEncoder kSrgbEncoder;
 
+// Binary PPM (3 channels) and PGM (1 channel), 8-bit, written here rather
+// than through the image module: loading OpenImageIO's hundreds of libraries
+// costs far more than a small render (tools/benchmark_results/README.md),
+// and these two formats are a header line and the bytes. The files are the
+// ones OpenImageIO writes, byte for byte ("P6\nW H\n255\n", rows from the
+// top); other channel counts go through the module.
+bool isNativeFormat(const std::string& extension, int channels) {
+    return (extension == ".ppm" && (channels == 1 || channels == 3)) || (extension == ".pgm" && channels == 1);
+}
+
+class PnmWriter final : public ImageFileWriter {
+public:
+    PnmWriter(const std::string& path, const ImageFileSpec& spec, std::string& error)
+        : out_(path, std::ios::binary | std::ios::trunc), rowBytes_(size_t(spec.width) * size_t(spec.channels)) {
+        char header[64];
+        int n = std::snprintf(header, sizeof header, "P%c\n%d %d\n255\n", spec.channels == 1 ? '5' : '6', spec.width,
+                              spec.height);
+        out_.write(header, n);
+        if (!out_) error = "cannot open " + path + " for writing";
+    }
+    bool ok() const { return bool(out_); }
+    bool writeRows(int y0, int y1, const void* pixels, std::string& error) override {
+        out_.write(static_cast<const char*>(pixels), std::streamsize(rowBytes_ * size_t(y1 - y0)));
+        if (!out_) error = "write failed";
+        return bool(out_);
+    }
+    bool close(std::string& error) override {
+        out_.close();
+        if (!out_) error = "write failed";
+        return bool(out_);
+    }
+
+private:
+    std::ofstream out_;
+    size_t rowBytes_;
+};
+
 }  // namespace
 
 bool isFloatFormat(const std::filesystem::path& path) {
@@ -66,8 +105,15 @@ bool isFloatFormat(const std::filesystem::path& path) {
 }
 
 bool isWritableFormat(const std::filesystem::path& path) {
-    if (lowerExtension(path).empty()) return false;
+    std::string ext = lowerExtension(path);
+    if (ext.empty()) return false;
+    if (writtenWithoutImageLibrary(path)) return true;
     return imageLibrary().canWrite(path.string());
+}
+
+bool writtenWithoutImageLibrary(const std::filesystem::path& path) {
+    std::string ext = lowerExtension(path);
+    return ext == ".ppm" || ext == ".pgm";
 }
 
 unsigned char encode8(float v, PixelEncoding encoding) {
@@ -95,7 +141,12 @@ ImageStreamWriter::ImageStreamWriter(const std::filesystem::path& path, int widt
                        .uintPixels = encoding == PixelEncoding::Uint32, .srgb = encoding == PixelEncoding::Srgb8,
                        .window = window};
     std::string error;
-    out_->file = imageLibrary().openWriter(temporary_.string(), spec, error);
+    if (!isFloat_ && isNativeFormat(lowerExtension(path), channels)) {
+        auto pnm = std::make_unique<PnmWriter>(temporary_.string(), spec, error);
+        if (pnm->ok()) out_->file = std::move(pnm);
+    } else {
+        out_->file = imageLibrary().openWriter(temporary_.string(), spec, error);
+    }
     if (!out_->file) {
         std::error_code ignored;
         std::filesystem::remove(temporary_, ignored);

@@ -18,8 +18,13 @@ enum class PixelEncoding {
 
 // True if the extension names a format that stores float pixels (.exr, .hdr).
 bool isFloatFormat(const std::filesystem::path& path);
-// True if OpenImageIO can write this file's format.
+// True if OpenImageIO can write this file's format (.ppm and .pgm without
+// loading it: see writtenWithoutImageLibrary).
 bool isWritableFormat(const std::filesystem::path& path);
+// True for .ppm and .pgm, whose 1- and 3-channel 8-bit images are written
+// here without the image module (host/io/image_library.h), byte for byte
+// as it would write them: a render into them need not load it.
+bool writtenWithoutImageLibrary(const std::filesystem::path& path);
 
 // Where an image's pixels sit in a larger picture: float formats (EXR) keep
 // the full picture as display window and the pixels as data window at
