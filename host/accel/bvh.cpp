@@ -222,44 +222,54 @@ struct Collapser {
     // height + stacked - 1 within gpu::kBvhWideStackSize; two children
     // always fit since the builder keeps the binary height below kBvhStackSize.
     void fill(uint32_t b, uint32_t slot, uint32_t stacked) {
-        std::vector<uint32_t> children;
-        if (isInner(binary[b])) children = {binary[b].first, binary[b].first + 1};
-        else children = {b};
-        auto tallest = [&](const std::vector<uint32_t>& c) {
-            uint32_t h = 0;
-            for (uint32_t k : c) h = std::max(h, height[k]);
-            return h;
-        };
-        while (children.size() < gpu::kBvhWidth) {
+        // Fixed arrays: one heap allocation a node made a large share of
+        // the collapse's time.
+        uint32_t children[gpu::kBvhWidth];
+        uint32_t count = 0;
+        if (isInner(binary[b])) {
+            children[count++] = binary[b].first;
+            children[count++] = binary[b].first + 1;
+        } else {
+            children[count++] = b;
+        }
+        while (count < gpu::kBvhWidth) {
             int open = -1;
-            for (int k = 0; k < int(children.size()); ++k)
-                if (isInner(binary[children[k]]) &&
-                    (open < 0 ||
-                     boxOf(binary[children[k]]).surfaceArea() > boxOf(binary[children[open]]).surfaceArea()))
+            float openArea = 0;
+            uint32_t tallestOther = 0;
+            for (int k = 0; k < int(count); ++k) {
+                if (!isInner(binary[children[k]])) continue;
+                float area = boxOf(binary[children[k]]).surfaceArea();
+                if (open < 0 || area > openArea) {
                     open = k;
+                    openArea = area;
+                }
+            }
             if (open < 0) break;
-            std::vector<uint32_t> opened = children;
-            uint32_t c = binary[opened[open]].first;
+            for (int k = 0; k < int(count); ++k)
+                if (k != open) tallestOther = std::max(tallestOther, height[children[k]]);
+            uint32_t c = binary[children[open]].first;
+            uint32_t tallest = std::max({tallestOther, height[c], height[c + 1]});
+            if (stacked - 1 + (count + 1) + tallest > gpu::kBvhWideStackSize) break;
             // In place, so that the children keep the binary tree's order.
-            opened[open] = c;
-            opened.insert(opened.begin() + open + 1, c + 1);
-            if (stacked - 1 + uint32_t(opened.size()) + tallest(opened) > gpu::kBvhWideStackSize) break;
-            children = std::move(opened);
+            for (int k = int(count); k > open + 1; --k) children[k] = children[k - 1];
+            children[open] = c;
+            children[open + 1] = c + 1;
+            ++count;
         }
 
         gpu::BvhNode node;
-        std::vector<Aabb> boxes;
-        for (uint32_t c : children) boxes.push_back(boxOf(binary[c]));
-        quantiseChildren(boxes, node);
+        Aabb boxes[gpu::kBvhWidth];
+        for (uint32_t k = 0; k < count; ++k) boxes[k] = boxOf(binary[children[k]]);
+        quantiseChildren(std::span<const Aabb>(boxes, count), node);
         node.primitiveBase = uint32_t(newOrder.size());
         node.childBase = uint32_t(out.size());
         uint32_t inner = 0;
-        std::vector<uint32_t> innerChildren;
-        for (uint32_t k = 0; k < children.size(); ++k) {
+        uint32_t innerChildren[gpu::kBvhWidth];
+        for (uint32_t k = 0; k < count; ++k) {
             const BinaryBvhNode& child = binary[children[k]];
             if (isInner(child)) {
-                setByte(node.childInfo0, node.childInfo1, k, gpu::kBvhChildInner | inner++);
-                innerChildren.push_back(children[k]);
+                setByte(node.childInfo0, node.childInfo1, k, gpu::kBvhChildInner | inner);
+                innerChildren[inner++] = children[k];
             } else {
                 setByte(node.childInfo0, node.childInfo1, k, child.primitiveCount);
                 newOrder.insert(newOrder.end(), order.begin() + child.first,
@@ -268,7 +278,7 @@ struct Collapser {
         }
         out.resize(out.size() + inner);
         out[slot] = node;
-        uint32_t childStacked = stacked - 1 + uint32_t(children.size());
+        uint32_t childStacked = stacked - 1 + count;
         for (uint32_t k = 0; k < inner; ++k) fill(innerChildren[k], node.childBase + k, childStacked);
     }
 };
