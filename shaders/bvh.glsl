@@ -5,17 +5,20 @@
 // the primitive tests (testPrimitive) are intersect.glsl's.
 //
 // Traversal follows the stack-based scheme of Aila and Laine ("Understanding
-// the Efficiency of Ray Traversal on GPUs", HPG 2009) on a 4-wide tree: the
-// host's binary SAH tree collapsed to two to four children a node
-// (host/accel/bvh.h, collapseToWide; the wide traversal of Ylitie, Karras
-// and Laine, "Efficient Incoherent Ray Traversal on GPUs Through Compressed
-// Wide BVHs", HPG 2017, without their compression). A step tests the
-// child boxes, descends into the nearest (a sorting network orders them),
-// pushes the others farthest first; closest-hit rays shrink their interval
-// as hits are found, shadow rays stop at the first opaque hit and take the
-// children in slot order. On lavapipe a step gathers four nodes instead of
-// two, but a walk takes about half the steps (measured: see
-// tools/benchmark_results/README.md).
+// the Efficiency of Ray Traversal on GPUs", HPG 2009) on the compressed
+// 8-wide tree of Ylitie, Karras and Laine ("Efficient Incoherent Ray
+// Traversal on GPUs Through Compressed Wide BVHs", HPG 2017): the host's
+// binary SAH tree collapsed to up to eight children a node, their boxes
+// quantised to 8 bits a bound on the node's power-of-two grid (gpu::BvhNode,
+// host/accel/bvh.h). A step loads one 80-byte node, decodes and tests its
+// eight child boxes, descends into the nearest (a sorting network orders
+// them), pushes the others farthest first; closest-hit rays shrink their
+// interval as hits are found, shadow rays stop at the first opaque hit and
+// take the children in slot order. Unlike Ylitie et al., the stack holds
+// one entry per child (with its entry distance, below), not a node and a
+// mask of hit children ordered by the ray's octant. On lavapipe a step
+// gathers five 16-byte words where the 4-wide tree of 32-byte child nodes
+// before it gathered eight (measured: see tools/benchmark_results/README.md).
 // Stacked entries keep their entry distance, and a closest-hit ray drops a
 // popped entry that lies behind its nearest hit so far, as Embree's
 // traversal does (Wald et al., "Embree: A Kernel Framework for Efficient CPU
@@ -23,16 +26,6 @@
 #ifndef WHITTED_BVH_GLSL
 #define WHITTED_BVH_GLSL
 #include "scene.glsl"  // bvhNodes, bvhNodeBuffer
-
-// Entry distance of the ray into a node's box within [0, tMax], or -1.
-float intersectNodeBounds(BvhNode node, vec3 origin, vec3 invDir, float tMax) {
-    vec3 t0 = (node.lo - origin) * invDir;
-    vec3 t1 = (node.hi - origin) * invDir;
-    vec3 tNear = min(t0, t1), tFar = max(t0, t1);
-    float enter = max(max(tNear.x, tNear.y), max(tNear.z, 0.0));
-    float exit = min(min(tFar.x, tFar.y), min(tFar.z, tMax));
-    return enter <= exit ? enter : -1.0;
-}
 
 vec3 safeInverse(vec3 d) {
     return 1.0 / mix(d, vec3(1e-30) * sign(d + vec3(1e-37)), lessThan(abs(d), vec3(1e-30)));
@@ -63,16 +56,31 @@ vec3 safeInverse(vec3 d) {
 // halves for all lanes under masks anyway, so an iteration costs one node
 // step plus one primitive test and the iteration count is the most work any
 // lane has, where nested loops pay each inner loop's body at least once per
-// outer iteration. Stack entries are an inner node's `first` (its first child
-// slot and child count, whose boxes are tested next) or kLeafEntry | the
-// leaf's index.
+// outer iteration. Stack entries are a wide node's index (its children's
+// boxes are tested next) or a leaf's primitive range (kBvhLeafEntry,
+// device_types.h).
 // Returns false when a shadow ray is blocked.
-const uint kLeafEntry = 0x80000000u;
 const uint kNoEntry = 0xffffffffu;
 
-uint entryOf(BvhNode node, uint index) {
-    return node.primitiveCount > 0u ? (kLeafEntry | index) : node.first;
-}
+// Child k's entry distance (or kMiss) and stack entry, from the node's
+// words: the child's bytes of the quantised bounds (lo and hi on x, y, z),
+// its info byte and the node's inclusive prefix sum of leaf counts
+// (leafEnd: the end of child k's primitives, relative to primitiveBase).
+// A bound is origin + q * scale, so its ray distance is
+// (q * scale + (origin - ray origin)) / dir: one fma and one product.
+#define WHITTED_CHILD(k, lw, hw, infoWord, endWord, t, e) { \
+    uint sh = 8u * uint((k) & 3); \
+    vec3 qlo = vec3(uvec3(n.quantX.lw, n.quantY.lw, n.quantZ.lw) >> sh & 0xffu); \
+    vec3 qhi = vec3(uvec3(n.quantX.hw, n.quantY.hw, n.quantZ.hw) >> sh & 0xffu); \
+    vec3 tA = fma(qlo, scale, rel) * invDir, tB = fma(qhi, scale, rel) * invDir; \
+    vec3 tNear = min(tA, tB), tFar = max(tA, tB); \
+    float enter = max(max(tNear.x, tNear.y), max(tNear.z, 0.0)); \
+    float exit = min(min(tFar.x, tFar.y), min(tFar.z, tLimit)); \
+    uint info = (infoWord) >> sh & 0xffu; \
+    t = info != 0u && enter <= exit ? enter : kMiss; \
+    uint leafFirst = n.primitiveBase + ((endWord) >> sh & 0xffu) - info; \
+    e = info >= kBvhChildInner ? n.childBase + (info & 7u) \
+                               : kBvhLeafEntry | ((info - 1u) << kBvhLeafCountShift) | leafFirst; }
 
 bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
                    inout vec3 opticalDepth) {
@@ -85,17 +93,13 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     uint stack[kBvhWideStackSize];
     float stackT[kBvhWideStackSize];  // entry distance of each stacked node (closest hit)
     int top = 0;
-    uint children = kNoEntry;  // `first` of the inner node to expand next: first child slot, child count
+    uint children = 0u;  // the wide node whose children are tested next: the root first
     uint prim = 0u, primEnd = 0u;
-    if (intersectNodeBounds(bvhWalkNodes[0], ray.origin, invDir, shadow ? tMax : hit.t) >= 0.0) {
-        stackT[top] = 0.0;
-        stack[top++] = entryOf(bvhWalkNodes[0], 0u);
-    }
 
     bool running = true;
     while (running) {
         if (prim >= primEnd) {
-            // Traversal step: test the four child boxes of the inner node,
+            // Traversal step: test the eight child boxes of the wide node,
             // go on with the nearest hit one (closest hit; shadow rays: the
             // first in slot order) and push the others, farthest first, or
             // pop.
@@ -103,40 +107,48 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             uint entry = kNoEntry;
             if (children != kNoEntry) {
                 const float kMiss = 3.4e38;  // beyond any tLimit: sorts last
-                // Two to four children (the count is in the entry); a slot
-                // past the last is not read: slot 0 is read again, its
-                // distance ignored.
-                uint first = children & kBvhChildIndexMask, count = (children >> kBvhChildCountShift) + 2u;
-                uint s2 = count > 2u ? first + 2u : first, s3 = count > 3u ? first + 3u : first;
-                BvhNode c0 = bvhWalkNodes[first], c1 = bvhWalkNodes[first + 1u];
-                BvhNode c2 = bvhWalkNodes[s2], c3 = bvhWalkNodes[s3];
-                float t0 = intersectNodeBounds(c0, ray.origin, invDir, tLimit);
-                float t1 = intersectNodeBounds(c1, ray.origin, invDir, tLimit);
-                float t2 = count > 2u ? intersectNodeBounds(c2, ray.origin, invDir, tLimit) : -1.0;
-                float t3 = count > 3u ? intersectNodeBounds(c3, ray.origin, invDir, tLimit) : -1.0;
-                t0 = t0 >= 0.0 ? t0 : kMiss;
-                t1 = t1 >= 0.0 ? t1 : kMiss;
-                t2 = t2 >= 0.0 ? t2 : kMiss;
-                t3 = t3 >= 0.0 ? t3 : kMiss;
-                uint e0 = entryOf(c0, first), e1 = entryOf(c1, first + 1u);
-                uint e2 = entryOf(c2, s2), e3 = entryOf(c3, s3);
+                BvhNode n = bvhWalkNodes[children];
+                vec3 scale = uintBitsToFloat(uvec3(n.exponents, n.exponents >> 8u, n.exponents >> 16u) << 23u & 0x7f800000u);
+                vec3 rel = n.origin - ray.origin;
+                // Leaf children's primitive ranges: byte k of the prefix sum
+                // of the leaf counts (inner children's bytes masked to 0) is
+                // the end of child k's range.
+                uvec2 info = uvec2(n.childInfo0, n.childInfo1);
+                uvec2 innerBytes = ((info >> 7u) & 0x01010101u) * 0xffu;
+                uvec2 leafEnd = (info & ~innerBytes) * 0x01010101u;
+                leafEnd.y += (leafEnd.x >> 24u) * 0x01010101u;
+                float t0, t1, t2, t3, t4, t5, t6, t7;
+                uint e0, e1, e2, e3, e4, e5, e6, e7;
+                WHITTED_CHILD(0, x, z, info.x, leafEnd.x, t0, e0)
+                WHITTED_CHILD(1, x, z, info.x, leafEnd.x, t1, e1)
+                WHITTED_CHILD(2, x, z, info.x, leafEnd.x, t2, e2)
+                WHITTED_CHILD(3, x, z, info.x, leafEnd.x, t3, e3)
+                WHITTED_CHILD(4, y, w, info.y, leafEnd.y, t4, e4)
+                WHITTED_CHILD(5, y, w, info.y, leafEnd.y, t5, e5)
+                WHITTED_CHILD(6, y, w, info.y, leafEnd.y, t6, e6)
+                WHITTED_CHILD(7, y, w, info.y, leafEnd.y, t7, e7)
                 if (!shadow) {
-                    // Sorting network on the entry distances (stable: ties
-                    // keep slot order).
+                    // A sorting network of 19 comparators on the entry
+                    // distances (Knuth, TAOCP vol. 3, 5.3.4).
 #define WHITTED_SORT2(ta, ea, tb, eb) { bool swap = tb < ta; float tt = ta; uint et = ea; \
                     ta = swap ? tb : ta; ea = swap ? eb : ea; tb = swap ? tt : tb; eb = swap ? et : eb; }
-                    WHITTED_SORT2(t0, e0, t1, e1)
-                    WHITTED_SORT2(t2, e2, t3, e3)
-                    WHITTED_SORT2(t0, e0, t2, e2)
-                    WHITTED_SORT2(t1, e1, t3, e3)
-                    WHITTED_SORT2(t1, e1, t2, e2)
+                    WHITTED_SORT2(t0, e0, t2, e2) WHITTED_SORT2(t1, e1, t3, e3)
+                    WHITTED_SORT2(t4, e4, t6, e6) WHITTED_SORT2(t5, e5, t7, e7)
+                    WHITTED_SORT2(t0, e0, t4, e4) WHITTED_SORT2(t1, e1, t5, e5)
+                    WHITTED_SORT2(t2, e2, t6, e6) WHITTED_SORT2(t3, e3, t7, e7)
+                    WHITTED_SORT2(t0, e0, t1, e1) WHITTED_SORT2(t2, e2, t3, e3)
+                    WHITTED_SORT2(t4, e4, t5, e5) WHITTED_SORT2(t6, e6, t7, e7)
+                    WHITTED_SORT2(t2, e2, t4, e4) WHITTED_SORT2(t3, e3, t5, e5)
+                    WHITTED_SORT2(t1, e1, t4, e4) WHITTED_SORT2(t3, e3, t6, e6)
+                    WHITTED_SORT2(t1, e1, t2, e2) WHITTED_SORT2(t3, e3, t4, e4) WHITTED_SORT2(t5, e5, t6, e6)
 #undef WHITTED_SORT2
-                } else {
-                    // Any hit child first: the first one in slot order.
-                    bool swap = t0 == kMiss;
-                    float tt = t0; uint et = e0;
-                    t0 = swap ? t1 : t0; e0 = swap ? e1 : e0; t1 = swap ? tt : t1; e1 = swap ? et : e1;
                 }
+                // Shadow rays: slot order, the first hit child walked next
+                // (popped at once when child 0 is missed).
+                if (t7 < kMiss) { stackT[top] = t7; stack[top++] = e7; }
+                if (t6 < kMiss) { stackT[top] = t6; stack[top++] = e6; }
+                if (t5 < kMiss) { stackT[top] = t5; stack[top++] = e5; }
+                if (t4 < kMiss) { stackT[top] = t4; stack[top++] = e4; }
                 if (t3 < kMiss) { stackT[top] = t3; stack[top++] = e3; }
                 if (t2 < kMiss) { stackT[top] = t2; stack[top++] = e2; }
                 if (t1 < kMiss) { stackT[top] = t1; stack[top++] = e1; }
@@ -155,12 +167,9 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                 running = false;
             } else if (culled) {
                 // this step is spent; the next one pops again
-            } else if ((entry & kLeafEntry) != 0u) {
-                // Only the two words needed: a whole node would be a
-                // gather of eight per lane.
-                uint leaf = entry & ~kLeafEntry;
-                prim = bvhWalkNodes[leaf].first;
-                primEnd = prim + bvhWalkNodes[leaf].primitiveCount;
+            } else if ((entry & kBvhLeafEntry) != 0u) {
+                prim = entry & (kBvhMaxPrimitives - 1u);
+                primEnd = prim + ((entry >> kBvhLeafCountShift) & 7u) + 1u;
             } else {
                 children = entry;
             }
@@ -174,5 +183,6 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     }
     return true;
 }
+#undef WHITTED_CHILD
 
 #endif

@@ -136,19 +136,23 @@ WHITTED_CONST uint kMaxDepthLimit = kRayStackSize - 2;
 WHITTED_CONST uint kMaxImageSide = 16384;
 WHITTED_CONST uint kMaxSamplesPerPixel = 65536;
 
-// Capacity of the BVH traversal stack; the builder limits the tree depth
-// to fit.
+// Capacity of the BVH traversal stack; the builder limits the binary
+// tree's depth to kBvhStackSize - 1.
 WHITTED_CONST uint kBvhStackSize = 48;
-// The shader walks the tree collapsed to 4 children a node
-// (host/accel/bvh.h, collapseToWide): at most 3 entries pushed for every 2
-// binary levels descended.
+// The shader walks the tree collapsed to up to kBvhWidth children a node
+// (host/accel/bvh.h, collapseToWide), which stops opening children where a
+// walk could stack more than kBvhWideStackSize entries.
 WHITTED_CONST uint kBvhWideStackSize = kBvhStackSize * 3 / 2;
-// An inner node's BvhNode.first: its first child slot in the low bits, its number
-// of children (2 to 4) minus 2 above kBvhChildCountShift; so a tree has
-// at most kBvhMaxNodes slots.
-WHITTED_CONST uint kBvhChildCountShift = 29u;
-WHITTED_CONST uint kBvhChildIndexMask = (1u << kBvhChildCountShift) - 1u;
-WHITTED_CONST uint kBvhMaxNodes = 1u << kBvhChildCountShift;
+WHITTED_CONST uint kBvhWidth = 8;
+// A leaf holds 1 to kBvhMaxLeafSize primitives (the builder's bound).
+WHITTED_CONST uint kBvhMaxLeafSize = 8;
+// A walk's stack entry: a wide node's index, or kBvhLeafEntry | (count - 1)
+// << kBvhLeafCountShift | first primitive for a leaf; so a tree has at most
+// kBvhMaxNodes nodes over kBvhMaxPrimitives primitives.
+WHITTED_CONST uint kBvhLeafEntry = 0x80000000u;
+WHITTED_CONST uint kBvhLeafCountShift = 28u;
+WHITTED_CONST uint kBvhMaxPrimitives = 1u << kBvhLeafCountShift;
+WHITTED_CONST uint kBvhMaxNodes = kBvhLeafEntry;
 
 // Specialization constant ids (shaders/shapes/primitive.glsl, intersect.glsl).
 WHITTED_CONST uint kSpecShapeMask = 0;     // bit (1 << kShape*) set: the BVH holds that shape
@@ -266,18 +270,29 @@ struct Light {
     float pad2 WHITTED_ZERO;
 };
 
-// A node of the flattened BVH (host/accel/bvh.h): its bounds lo..hi. An
-// inner node has primitiveCount = 0 and its children in adjacent slots from
-// `first` (the builder's binary tree: two, at first and first + 1; the
-// 4-wide tree the shader walks, collapseToWide: two to four,
-// first & kBvhChildIndexMask the first, (first >> kBvhChildCountShift) + 2
-// their count); a leaf has primitiveCount > 0 and its primitives at
-// first .. first + primitiveCount - 1.
+// A node of the compressed 8-wide BVH the shader walks (host/accel/bvh.h,
+// collapseToWide; Ylitie, Karras and Laine 2017): 80 bytes for up to eight
+// children. Child k's box is quantised to 8 bits a bound on the node's grid:
+// on axis a, lo = origin[a] + q * 2^(e[a] - 127) for its lo byte q (the same
+// for hi), e[a] byte a of `exponents`. The host rounds lo down and hi up, so
+// the decoded box contains the child's exact box (the product is exact: a
+// power of two times 8 bits). Byte k of childInfo0 (children 0-3) and
+// childInfo1 (4-7): 0 for no child, kBvhChildInner | r for an inner child (node
+// childBase + r), else the leaf's primitive count; a node's leaf children
+// hold consecutive primitives from primitiveBase, in slot order. quantX.x
+// holds the lo bytes of children 0-3 on x, .y those of 4-7, .z and .w the hi
+// bytes (quantY and quantZ likewise).
+WHITTED_CONST uint kBvhChildInner = 0x80u;
 struct BvhNode {
-    vec3 lo WHITTED_ZERO;
-    uint first WHITTED_ZERO;
-    vec3 hi WHITTED_ZERO;
-    uint primitiveCount WHITTED_ZERO;
+    vec3 origin WHITTED_ZERO;
+    uint exponents WHITTED_ZERO;
+    uint childBase WHITTED_ZERO;
+    uint primitiveBase WHITTED_ZERO;
+    uint childInfo0 WHITTED_ZERO;
+    uint childInfo1 WHITTED_ZERO;
+    uvec4 quantX WHITTED_ZERO;
+    uvec4 quantY WHITTED_ZERO;
+    uvec4 quantZ WHITTED_ZERO;
 };
 
 // One instruction of a csg object's postfix program (host/shapes/csg.cpp):

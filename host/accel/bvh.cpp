@@ -4,6 +4,7 @@
 #include <atomic>
 #include <bit>
 #include <chrono>
+#include <cmath>
 #include <future>
 #include <memory>
 #include <thread>
@@ -12,7 +13,7 @@ namespace whitted {
 namespace {
 
 constexpr int kBins = 16;
-constexpr uint32_t kMaxLeafSize = 8;
+constexpr uint32_t kMaxLeafSize = gpu::kBvhMaxLeafSize;
 constexpr uint32_t kMaxDepth = gpu::kBvhStackSize - 1;
 constexpr float kTraversalCost = 1.0f;     // relative to one primitive test
 constexpr uint32_t kParallelThreshold = 16384;  // primitives; smaller subtrees stay on one thread
@@ -56,17 +57,21 @@ struct Builder {
         Aabb bins[3][kBins];
         uint32_t binCounts[3][kBins] = {};
         glm::vec3 scales = glm::vec3(float(kBins)) / extent;
+        // An axis is binned where its centroids spread and kBins / extent is
+        // finite (a subnormal extent is not).
+        bool binned[3];
+        for (int axis = 0; axis < 3; ++axis) binned[axis] = extent[axis] > 0 && std::isfinite(scales[axis]);
         for (uint32_t i = first; i < first + count; ++i) {
             glm::vec3 rel = (refs[i].centroid - centroidBounds.min) * scales;
             for (int axis = 0; axis < 3; ++axis) {
-                if (!(extent[axis] > 0)) continue;
+                if (!binned[axis]) continue;
                 int b = std::min(kBins - 1, int(rel[axis]));
                 bins[axis][b].extend(refs[i].bounds);
                 ++binCounts[axis][b];
             }
         }
         for (int axis = 0; axis < 3; ++axis) {
-            if (!(extent[axis] > 0)) continue;
+            if (!binned[axis]) continue;
             const Aabb* binBounds = bins[axis];
             const uint32_t* binCount = binCounts[axis];
             // Sweep from the right to get suffix areas, then from the left.
@@ -97,16 +102,26 @@ struct Builder {
         float parentArea = node->bounds.surfaceArea();
         float leafCost = float(count);
         float splitCost = kTraversalCost + (parentArea > 0 ? bestCost / parentArea : float(count));
-        if (bestAxis < 0 || (count <= kMaxLeafSize && leafCost <= splitCost)) return node;
+        if (count <= kMaxLeafSize && (bestAxis < 0 || leafCost <= splitCost)) return node;
 
-        // Partition by bin.
-        float scale = kBins / extent[bestAxis];
-        auto mid = std::partition(refs.begin() + first, refs.begin() + first + count, [&](const PrimitiveRef& p) {
-            int b = std::min(kBins - 1, int((p.centroid[bestAxis] - centroidBounds.min[bestAxis]) * scale));
-            return b <= bestSplit;
-        });
-        uint32_t leftCount = uint32_t(mid - (refs.begin() + first));
-        if (leftCount == 0 || leftCount == count) return node;
+        // Partition by bin; a range SAH cannot split, or whose larger side
+        // could not end in leaves of at most kMaxLeafSize within the depth
+        // bound (count <= kMaxLeafSize << (kMaxDepth - depth) holds for every
+        // node), is split at its middle.
+        uint32_t leftCount = 0;
+        if (bestAxis >= 0) {
+            float scale = kBins / extent[bestAxis];
+            auto mid = std::partition(refs.begin() + first, refs.begin() + first + count, [&](const PrimitiveRef& p) {
+                int b = std::min(kBins - 1, int((p.centroid[bestAxis] - centroidBounds.min[bestAxis]) * scale));
+                return b <= bestSplit;
+            });
+            leftCount = uint32_t(mid - (refs.begin() + first));
+        }
+        uint32_t remaining = kMaxDepth - depth - 1;  // levels below the children
+        uint64_t childLimit = remaining >= 32 ? UINT64_MAX : uint64_t(kMaxLeafSize) << remaining;
+        bool unsplit = leftCount == 0 || leftCount == count;
+        if (unsplit && count <= kMaxLeafSize) return node;
+        if (unsplit || std::max(leftCount, count - leftCount) > childLimit) leftCount = count / 2;
 
         // Large subtrees are built in parallel while threads are free.
         if (count > kParallelThreshold && freeThreads.fetch_sub(1) > 0) {
@@ -126,7 +141,7 @@ struct Builder {
 
 // Flattens depth first, the two children of a node in adjacent slots.
 void flatten(const BuildNode& node, uint32_t index, uint32_t depth, Bvh& bvh) {
-    gpu::BvhNode& out = bvh.nodes[index];
+    BinaryBvhNode& out = bvh.nodes[index];
     out.lo = node.bounds.min;
     out.hi = node.bounds.max;
     bvh.stats.maxDepth = std::max(bvh.stats.maxDepth, depth);
@@ -148,7 +163,7 @@ void flatten(const BuildNode& node, uint32_t index, uint32_t depth, Bvh& bvh) {
 // area(node) / area(root) times the node's work.
 double sahCost(const Bvh& bvh) {
     if (bvh.nodes.empty()) return 0;
-    auto area = [](const gpu::BvhNode& n) {
+    auto area = [](const BinaryBvhNode& n) {
         Aabb b;
         b.min = n.lo;
         b.max = n.hi;
@@ -156,57 +171,174 @@ double sahCost(const Bvh& bvh) {
     };
     double rootArea = std::max(area(bvh.nodes[0]), 1e-30);
     double cost = 0;
-    for (const gpu::BvhNode& n : bvh.nodes) {
+    for (const BinaryBvhNode& n : bvh.nodes) {
         uint32_t count = n.primitiveCount;
         cost += area(n) / rootArea * (count ? double(count) : kTraversalCost);
     }
     return cost;
 }
 
-// Area of a node's box (for the collapse's choice).
-float nodeArea(const gpu::BvhNode& n) {
+Aabb boxOf(const BinaryBvhNode& n) {
     Aabb b;
     b.min = n.lo;
     b.max = n.hi;
-    return b.surfaceArea();
+    return b;
 }
 
-bool isInner(const gpu::BvhNode& n) { return n.primitiveCount == 0u; }
+bool isInner(const BinaryBvhNode& n) { return n.primitiveCount == 0u; }
 
-// Fills the four child slots of wide node `slot` from binary inner node b.
-void collapseNode(std::span<const gpu::BvhNode> binary, uint32_t b, uint32_t slot, std::vector<gpu::BvhNode>& out) {
-    uint32_t first = binary[b].first;
-    std::vector<uint32_t> children = {first, first + 1};
-    while (children.size() < 4) {
-        int open = -1;
-        for (int k = 0; k < int(children.size()); ++k)
-            if (isInner(binary[children[k]]) &&
-                (open < 0 || nodeArea(binary[children[k]]) > nodeArea(binary[children[open]])))
-                open = k;
-        if (open < 0) break;
-        uint32_t c = binary[children[open]].first;
-        // In place, so that the children keep the binary tree's order.
-        children[open] = c;
-        children.insert(children.begin() + open + 1, c + 1);
+// The shader's decode of one bound: origin + q * scale, one rounding (the
+// product is exact).
+float decode(float origin, uint32_t q, float scale) { return origin + float(q) * scale; }
+
+float scaleOf(uint32_t biased) { return std::bit_cast<float>(biased << 23); }
+
+uint32_t byteOf(uint32_t word, uint32_t k) { return (word >> (8u * (k & 3u))) & 0xffu; }
+
+// Writes byte k (0-7) of a pair of words (k < 4: word a, else word b).
+void setByte(uint32_t& a, uint32_t& b, uint32_t k, uint32_t value) {
+    uint32_t& word = k < 4 ? a : b;
+    word |= value << (8u * (k & 3u));
+}
+
+struct Collapser {
+    std::span<const BinaryBvhNode> binary;
+    const std::vector<uint32_t>& order;
+    std::vector<uint32_t> height;  // of each binary node's subtree (a leaf: 0)
+    std::vector<gpu::BvhNode> out;
+    std::vector<uint32_t> newOrder;
+
+    uint32_t computeHeight(uint32_t b) {
+        const BinaryBvhNode& n = binary[b];
+        if (!isInner(n)) return height[b] = 0;
+        return height[b] = 1 + std::max(computeHeight(n.first), computeHeight(n.first + 1));
     }
-    uint32_t wide = uint32_t(out.size());
-    uint32_t count = uint32_t(children.size());
-    out[slot].first = ((count - 2u) << gpu::kBvhChildCountShift) | wide;
-    out.resize(out.size() + count);
-    for (uint32_t k = 0; k < children.size(); ++k) out[wide + k] = binary[children[k]];
-    for (uint32_t k = 0; k < children.size(); ++k)
-        if (isInner(binary[children[k]])) collapseNode(binary, children[k], wide + k, out);
-}
+
+    // Fills wide node `slot` from binary node b (inner, or a leaf for a
+    // root that is one). `stacked`: the most entries a walk may hold when it
+    // reaches this node, itself included (the root: 1). A child reached
+    // from here may find stacked - 1 + (children) entries, and below it one
+    // more per level at least, so a node keeps children + the tallest one's
+    // height + stacked - 1 within gpu::kBvhWideStackSize; two children
+    // always fit since the builder keeps the binary height below kBvhStackSize.
+    void fill(uint32_t b, uint32_t slot, uint32_t stacked) {
+        // Fixed arrays: one heap allocation a node made a large share of
+        // the collapse's time.
+        uint32_t children[gpu::kBvhWidth];
+        uint32_t count = 0;
+        if (isInner(binary[b])) {
+            children[count++] = binary[b].first;
+            children[count++] = binary[b].first + 1;
+        } else {
+            children[count++] = b;
+        }
+        while (count < gpu::kBvhWidth) {
+            int open = -1;
+            float openArea = 0;
+            uint32_t tallestOther = 0;
+            for (int k = 0; k < int(count); ++k) {
+                if (!isInner(binary[children[k]])) continue;
+                float area = boxOf(binary[children[k]]).surfaceArea();
+                if (open < 0 || area > openArea) {
+                    open = k;
+                    openArea = area;
+                }
+            }
+            if (open < 0) break;
+            for (int k = 0; k < int(count); ++k)
+                if (k != open) tallestOther = std::max(tallestOther, height[children[k]]);
+            uint32_t c = binary[children[open]].first;
+            uint32_t tallest = std::max({tallestOther, height[c], height[c + 1]});
+            if (stacked - 1 + (count + 1) + tallest > gpu::kBvhWideStackSize) break;
+            // In place, so that the children keep the binary tree's order.
+            for (int k = int(count); k > open + 1; --k) children[k] = children[k - 1];
+            children[open] = c;
+            children[open + 1] = c + 1;
+            ++count;
+        }
+
+        gpu::BvhNode node;
+        Aabb boxes[gpu::kBvhWidth];
+        for (uint32_t k = 0; k < count; ++k) boxes[k] = boxOf(binary[children[k]]);
+        quantiseChildren(std::span<const Aabb>(boxes, count), node);
+        node.primitiveBase = uint32_t(newOrder.size());
+        node.childBase = uint32_t(out.size());
+        uint32_t inner = 0;
+        uint32_t innerChildren[gpu::kBvhWidth];
+        for (uint32_t k = 0; k < count; ++k) {
+            const BinaryBvhNode& child = binary[children[k]];
+            if (isInner(child)) {
+                setByte(node.childInfo0, node.childInfo1, k, gpu::kBvhChildInner | inner);
+                innerChildren[inner++] = children[k];
+            } else {
+                setByte(node.childInfo0, node.childInfo1, k, child.primitiveCount);
+                newOrder.insert(newOrder.end(), order.begin() + child.first,
+                                order.begin() + child.first + child.primitiveCount);
+            }
+        }
+        out.resize(out.size() + inner);
+        out[slot] = node;
+        uint32_t childStacked = stacked - 1 + count;
+        for (uint32_t k = 0; k < inner; ++k) fill(innerChildren[k], node.childBase + k, childStacked);
+    }
+};
 
 }  // namespace
 
-std::vector<gpu::BvhNode> collapseToWide(std::span<const gpu::BvhNode> binary) {
-    std::vector<gpu::BvhNode> out;
-    if (binary.empty()) return out;
-    out.reserve(2 * binary.size() + 4);
-    out.push_back(binary[0]);
-    if (isInner(binary[0])) collapseNode(binary, 0, 0, out);
-    return out;
+void quantiseChildren(std::span<const Aabb> children, gpu::BvhNode& node) {
+    Aabb all;
+    for (const Aabb& c : children) all.extend(c);
+    node.origin = all.min;
+    node.exponents &= 0xff000000u;
+    uint32_t* words[3] = {&node.quantX[0], &node.quantY[0], &node.quantZ[0]};
+    for (int axis = 0; axis < 3; ++axis) {
+        float lo = all.min[axis], hi = all.max[axis];
+        // The smallest power-of-two step whose 255 steps reach hi from lo.
+        double extent = double(hi) - double(lo);
+        int e = extent > 0 ? int(std::ceil(std::log2(extent / 255.0))) : -126;
+        e = std::clamp(e, -126, 127);
+        while (e < 127 && decode(lo, 255u, std::ldexp(1.0f, e)) < hi) ++e;
+        uint32_t biased = uint32_t(e + 127);
+        float scale = scaleOf(biased);
+        node.exponents |= biased << (8 * axis);
+        uint32_t* q = words[axis];
+        q[0] = q[1] = q[2] = q[3] = 0;
+        for (uint32_t k = 0; k < children.size(); ++k) {
+            const Aabb& c = children[k];
+            double steps = (double(c.min[axis]) - double(lo)) / double(scale);
+            uint32_t qlo = uint32_t(std::clamp(std::floor(steps), 0.0, 255.0));
+            while (qlo > 0 && decode(lo, qlo, scale) > c.min[axis]) --qlo;
+            steps = (double(c.max[axis]) - double(lo)) / double(scale);
+            uint32_t qhi = uint32_t(std::clamp(std::ceil(steps), 0.0, 255.0));
+            while (qhi < 255 && decode(lo, qhi, scale) < c.max[axis]) ++qhi;
+            setByte(q[0], q[1], k, qlo);
+            setByte(q[2], q[3], k, qhi);
+        }
+    }
+}
+
+Aabb decodeChildBox(const gpu::BvhNode& node, uint32_t k) {
+    Aabb b;
+    const glm::uvec4* quant[3] = {&node.quantX, &node.quantY, &node.quantZ};
+    for (int axis = 0; axis < 3; ++axis) {
+        float scale = scaleOf((node.exponents >> (8 * axis)) & 0xffu);
+        const glm::uvec4& q = *quant[axis];
+        b.min[axis] = decode(node.origin[axis], byteOf(k < 4 ? q.x : q.y, k), scale);
+        b.max[axis] = decode(node.origin[axis], byteOf(k < 4 ? q.z : q.w, k), scale);
+    }
+    return b;
+}
+
+std::vector<gpu::BvhNode> collapseToWide(std::span<const BinaryBvhNode> binary, std::vector<uint32_t>& order) {
+    if (binary.empty()) return {};
+    Collapser c{binary, order, std::vector<uint32_t>(binary.size(), 0u), {}, {}};
+    c.computeHeight(0);
+    c.out.reserve(binary.size() / 2 + 1);
+    c.newOrder.reserve(order.size());
+    c.out.resize(1);
+    c.fill(0, 0, 1);
+    order = std::move(c.newOrder);
+    return std::move(c.out);
 }
 
 Bvh buildBvh(std::span<const Aabb> bounds, unsigned threads) {

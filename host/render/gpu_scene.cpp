@@ -35,9 +35,11 @@ static_assert(sizeof(gpu::Light) == 64 && offsetof(gpu::Light, position) == 0 &&
               offsetof(gpu::Light, color) == 16 && offsetof(gpu::Light, falloff) == 28 &&
               offsetof(gpu::Light, direction) == 32 && offsetof(gpu::Light, cosInner) == 44 &&
               offsetof(gpu::Light, cosOuter) == 48);
-static_assert(sizeof(gpu::BvhNode) == 32 && offsetof(gpu::BvhNode, lo) == 0 &&
-              offsetof(gpu::BvhNode, first) == 12 && offsetof(gpu::BvhNode, hi) == 16 &&
-              offsetof(gpu::BvhNode, primitiveCount) == 28);
+static_assert(sizeof(gpu::BvhNode) == 80 && offsetof(gpu::BvhNode, origin) == 0 &&
+              offsetof(gpu::BvhNode, exponents) == 12 && offsetof(gpu::BvhNode, childBase) == 16 &&
+              offsetof(gpu::BvhNode, primitiveBase) == 20 && offsetof(gpu::BvhNode, childInfo0) == 24 &&
+              offsetof(gpu::BvhNode, childInfo1) == 28 && offsetof(gpu::BvhNode, quantX) == 32 &&
+              offsetof(gpu::BvhNode, quantY) == 48 && offsetof(gpu::BvhNode, quantZ) == 64);
 static_assert(sizeof(gpu::CsgNode) == 16 && offsetof(gpu::CsgNode, op) == 0 &&
               offsetof(gpu::CsgNode, leaf) == 4);
 static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, eye) == 0 &&
@@ -230,6 +232,10 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     std::vector<uint32_t> bounded, unbounded;
     for (uint32_t i = 0; i < primitives.size(); ++i)
         (settings.useBvh && bounds[i].finite() ? bounded : unbounded).push_back(i);
+    if (bounded.size() > gpu::kBvhMaxPrimitives)
+        throw std::runtime_error("the scene has " + std::to_string(bounded.size()) +
+                                 " bounded primitives, more than the shader's BVH addresses (" +
+                                 std::to_string(gpu::kBvhMaxPrimitives) + ")");
     std::vector<Aabb> boundedBounds;
     boundedBounds.reserve(bounded.size());
     for (uint32_t i : bounded) {
@@ -242,7 +248,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     std::vector<Aabb>().swap(bounds);
     Bvh bvh = buildBvh(boundedBounds);
     std::vector<Aabb>().swap(boundedBounds);
-    g.bvhNodes = collapseToWide(bvh.nodes);
+    g.bvhNodes = collapseToWide(bvh.nodes, bvh.primitiveOrder);
     if (g.bvhNodes.size() > gpu::kBvhMaxNodes)
         throw std::runtime_error("the scene's BVH has " + std::to_string(g.bvhNodes.size()) +
                                  " nodes, more than the shader addresses (" + std::to_string(gpu::kBvhMaxNodes) + ")");
@@ -311,7 +317,7 @@ SceneArrayCounts countSceneArrays(const Scene& scene) {
             childMaterials += csgOwnMaterialCount(*csg);
         }
     }
-    counts.bvhNodes = std::max<uint64_t>(2 * counts.primitives, 1) - 1;  // binary or 4-wide (collapseToWide)
+    counts.bvhNodes = std::max<uint64_t>(counts.primitives, 2) - 1;  // collapseToWide's bound
     counts.primitives += leaves;
     counts.materials = scene.objects.size() + childMaterials;
     counts.lights = scene.lights.size();
