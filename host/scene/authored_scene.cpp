@@ -113,6 +113,46 @@ Light lightFromGltf(const GltfLight& g, const glm::dmat4& world) {
     return light;
 }
 
+std::string gltfPartName(size_t mesh, size_t primitive) {
+    return "mesh " + std::to_string(mesh) + " primitive " + std::to_string(primitive);
+}
+
+Mesh meshFromGltfPrimitive(const GltfPrimitive& prim, const glm::dmat4& world, bool textured, bool normalMapped) {
+    const glm::dmat3 linear(world);
+    const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
+    const bool flip = glm::determinant(linear) < 0;  // mirrored: the winding turns over
+    textured = textured && !prim.uvs.empty();
+    Mesh out;
+    for (size_t i = 0; i + 2 < prim.indices.size(); i += 3) {
+        std::array<uint32_t, 3> v{prim.indices[i], prim.indices[i + 1], prim.indices[i + 2]};
+        if (flip) std::swap(v[1], v[2]);
+        Triangle t;
+        glm::dvec3* corners[3] = {&t.v0, &t.v1, &t.v2};
+        for (int k = 0; k < 3; ++k) *corners[k] = glm::dvec3(world * glm::dvec4(prim.positions[v[size_t(k)]], 1));
+        out.triangles.push_back(t);
+        if (!prim.normals.empty()) {
+            std::array<glm::dvec3, 3> n;
+            glm::dvec3 flat = glm::cross(t.v1 - t.v0, t.v2 - t.v0);
+            flat = glm::length(flat) > 0 ? glm::normalize(flat) : glm::dvec3(0, 0, 1);
+            for (int k = 0; k < 3; ++k) {
+                glm::dvec3 x = normalMatrix * prim.normals[v[size_t(k)]];
+                n[size_t(k)] = glm::length(x) > 1e-12 && std::isfinite(glm::length(x)) ? glm::normalize(x) : flat;
+            }
+            out.normals.push_back(n);
+        }
+        if (textured) {
+            std::array<glm::dvec2, 3> uv;
+            for (int k = 0; k < 3; ++k) {
+                glm::dvec2 u = prim.uvs[v[size_t(k)]];
+                uv[size_t(k)] = glm::dvec2(u.x, 1.0 - u.y);  // glTF's v runs down the image
+            }
+            out.uvs.push_back(uv);
+            if (normalMapped) out.tangents.push_back(tangentsOf(t, uv));
+        }
+    }
+    return out;
+}
+
 AuthoredScene loadGltfScene(const std::filesystem::path& path) {
     GltfFile file;
     try {
@@ -128,6 +168,7 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
     std::vector<Material> materials;
     for (const GltfMaterial& m : file.materials) materials.push_back(materialFromGltf(m));
     const std::string where = path.string();
+    const std::filesystem::path absolutePath = std::filesystem::absolute(path).lexically_normal();
 
     std::function<void(int, const glm::dmat4&)> visit = [&](int index, const glm::dmat4& parent) {
         const GltfNode& node = file.nodes[size_t(index)];
@@ -172,8 +213,6 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
         }
         if (node.mesh >= 0) {
             const GltfMesh& mesh = file.meshes[size_t(node.mesh)];
-            const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
-            const bool flip = glm::determinant(linear) < 0;  // mirrored: the winding turns over
             for (size_t p = 0; p < mesh.primitives.size(); ++p) {
                 const GltfPrimitive& prim = mesh.primitives[p];
                 if (prim.indices.empty()) continue;
@@ -184,7 +223,6 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
                 } else {  // no material: white Lambert (the specification's default, a rough metal, is black here)
                     object.material.ambient = 0;
                 }
-                Mesh out;
                 bool textured = object.material.diffuseTexture || object.material.normalMap;
                 if (textured && prim.uvs.empty()) {
                     scene.warnings.push_back(where + ": node \"" + nodeName +
@@ -193,33 +231,10 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
                     object.material.normalMap = {};
                     textured = false;
                 }
-                for (size_t i = 0; i + 2 < prim.indices.size(); i += 3) {
-                    std::array<uint32_t, 3> v{prim.indices[i], prim.indices[i + 1], prim.indices[i + 2]};
-                    if (flip) std::swap(v[1], v[2]);
-                    Triangle t;
-                    glm::dvec3* corners[3] = {&t.v0, &t.v1, &t.v2};
-                    for (int k = 0; k < 3; ++k) *corners[k] = glm::dvec3(world * glm::dvec4(prim.positions[v[size_t(k)]], 1));
-                    out.triangles.push_back(t);
-                    if (!prim.normals.empty()) {
-                        std::array<glm::dvec3, 3> n;
-                        glm::dvec3 flat = glm::cross(t.v1 - t.v0, t.v2 - t.v0);
-                        flat = glm::length(flat) > 0 ? glm::normalize(flat) : glm::dvec3(0, 0, 1);
-                        for (int k = 0; k < 3; ++k) {
-                            glm::dvec3 x = normalMatrix * prim.normals[v[size_t(k)]];
-                            n[size_t(k)] = glm::length(x) > 1e-12 && std::isfinite(glm::length(x)) ? glm::normalize(x) : flat;
-                        }
-                        out.normals.push_back(n);
-                    }
-                    if (textured) {
-                        std::array<glm::dvec2, 3> uv;
-                        for (int k = 0; k < 3; ++k) {
-                            glm::dvec2 u = prim.uvs[v[size_t(k)]];
-                            uv[size_t(k)] = glm::dvec2(u.x, 1.0 - u.y);  // glTF's v runs down the image
-                        }
-                        out.uvs.push_back(uv);
-                        if (object.material.normalMap) out.tangents.push_back(tangentsOf(t, uv));
-                    }
-                }
+                Mesh out = meshFromGltfPrimitive(prim, world, textured, bool(object.material.normalMap));
+                // Written back by the scene writer as <file part="mesh M primitive P"> with <matrix>.
+                out.source = Mesh::FileSource{absolutePath, glm::dvec3(0), glm::dvec3(1), glm::dvec3(0), -1,
+                                              gltfPartName(size_t(node.mesh), p), world};
                 object.shape = std::move(out);
                 scene.objects.push_back(std::move(object));
             }
@@ -258,7 +273,9 @@ Material materialFromMtl(const MtlMaterial& m, const std::string& file, std::vec
     out.diffuse = 1;
     out.specular = 0;
     out.specularColor = ks;
-    out.shininess = m.Ns.value_or(32.0);
+    // Ns below 1 (spider.obj's 0) is 1: the scene format needs n > 0, and
+    // the shader's pow(0, 0) is undefined.
+    out.shininess = std::clamp(m.Ns.value_or(32.0), 1.0, 1e5);
     if (m.Ke) out.emission = *m.Ke;
     if (illum == 0) {  // constant colour Kd
         out.ambient = 0;
@@ -348,8 +365,18 @@ AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
                 mesh.tangents.push_back(data.tangents.empty() ? std::array<glm::dvec3, 3>{} : data.tangents[t]);
         }
     }
-    for (Object& o : objects)
-        if (!std::get<Mesh>(o.shape).triangles.empty()) scene.objects.push_back(std::move(o));
+    // Written back by the scene writer as <file part="material NAME">: a
+    // material with a name of its own (Assimp's stand-in for triangles
+    // without one has none, and a name used twice would take both).
+    const std::filesystem::path absolutePath = std::filesystem::absolute(path).lexically_normal();
+    for (Object& o : objects) {
+        Mesh& mesh = std::get<Mesh>(o.shape);
+        if (mesh.triangles.empty()) continue;
+        if (!o.name.empty() && std::count(data.materialNames.begin(), data.materialNames.end(), o.name) == 1)
+            mesh.source = Mesh::FileSource{absolutePath, glm::dvec3(0), glm::dvec3(1), glm::dvec3(0), -1,
+                                           "material " + o.name, std::nullopt};
+        scene.objects.push_back(std::move(o));
+    }
     return out;
 }
 

@@ -15,6 +15,7 @@ namespace whitted {
 
 struct GltfMaterial;  // io/gltf_file.h
 struct GltfLight;
+struct GltfPrimitive;
 struct MtlMaterial;   // io/mtl_file.h
 
 // A camera of the file, placed by its node: cameras in node order
@@ -49,6 +50,16 @@ Material materialFromMtl(const MtlMaterial& material, const std::string& file, s
 // `world` places the light: its position the origin's image, its
 // direction that of -Z.
 Light lightFromGltf(const GltfLight& light, const glm::dmat4& world);
+
+// A primitive's triangles placed by `world` (its winding turned over where
+// the determinant is negative), its normals by world's inverse transpose;
+// texture coordinates (v flipped to whitted's up) only when `textured`,
+// tangents only when also `normalMapped`. The glTF scene and a <file
+// part="mesh M primitive P"> both build their meshes with it, so that a
+// converted scene renders bit for bit as the file.
+Mesh meshFromGltfPrimitive(const GltfPrimitive& primitive, const glm::dmat4& world, bool textured, bool normalMapped);
+// "mesh M primitive P", the part attribute naming one primitive.
+std::string gltfPartName(size_t mesh, size_t primitive);
 
 // --camera INDEX|NAME: INDEX counts the cameras in node order from 0, NAME
 // is a camera's or its node's name. Throws SceneError(file, 0, ...) when

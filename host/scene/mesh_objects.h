@@ -11,6 +11,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <tuple>
 #include <vector>
 
 namespace whitted {
@@ -33,12 +36,21 @@ struct FileMaterials {
     std::vector<uint32_t> triangleMaterials;
 };
 
+struct GltfFile;  // io/gltf_file.h
+
+// The model files one scene has read, so that the <file part="..."> objects
+// of one file (a converted glTF or OBJ: one object per part) read it once.
+struct ModelFiles {
+    std::map<std::filesystem::path, std::shared_ptr<const GltfFile>> gltf;
+    std::map<std::tuple<std::filesystem::path, MeshFileMaterials, bool>, std::shared_ptr<const MeshFileData>> meshes;
+};
+
 // The mesh of an <object> (whose readers `object` and `properties` are):
 // <polygons> or a <file>, its path relative to `sceneFolder`. Degenerate
 // polygons and triangles are dropped with a warning.
 Mesh readMeshObject(const xml::Diagnostics& diag, xml::ElementReader& object, xml::ElementReader& properties,
                     const glm::dvec3& position, const std::filesystem::path& sceneFolder,
-                    FileMaterials& fileMaterials);
+                    FileMaterials& fileMaterials, ModelFiles& modelFiles);
 
 // A model file's triangles grouped by their material, each group an
 // object with the scene's material but the file's base colour and

@@ -66,7 +66,8 @@ struct FilePlaces {
 
 std::string escapedXml(const std::string& text) {
     std::string escaped;
-    for (char c : text) escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : std::string(1, c);
+    for (char c : text)
+        escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '"' ? "&quot;" : std::string(1, c);
     return escaped;
 }
 
@@ -215,7 +216,18 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                 static const char* kOperations[] = {"union", "intersection", "difference"};
                 x.value("operation", kOperations[int(s.operation)]);
             } else if (source) {
-                x.value("file", fileText(source->path, places));
+                if (source->partName.empty())
+                    x.value("file", fileText(source->path, places));
+                else
+                    x.line("<file part=\"" + escapedXml(source->partName) + "\">" + fileText(source->path, places) +
+                           "</file>");
+                if (source->matrix) {  // three rows of four
+                    std::string rows;
+                    for (int row = 0; row < 3; ++row)
+                        for (int col = 0; col < 4; ++col)
+                            rows += (rows.empty() ? "" : col == 0 ? "  " : " ") + number((*source->matrix)[col][row]);
+                    x.value("matrix", rows);
+                }
                 if (source->scale != glm::dvec3(1)) x.vector("scale", source->scale);
                 if (source->rotationDegrees != glm::dvec3(0)) x.vector("rotation", source->rotationDegrees);
             } else {
