@@ -144,13 +144,14 @@ fs::path writeAuthoredGltf(const fs::path& dir) {
 // Every input kind the renderer takes: scene files (textures, csg, mirrors,
 // glass), model files through their quick look (OBJ, PLY) and authored
 // scenes (glTF with a texture of its own, a generated glTF with camera,
-// lights, metal and glass, a generated OBJ/MTL with illum 2, 3, 5, 6, 7).
+// lights, metal and glass, a generated OBJ/MTL with illum 2, 3, 5, 6, 7,
+// and spider.obj with its textures).
 std::vector<fs::path> inputs(const fs::path& generated) {
     const fs::path scenes = sourceDir() / "scenes", meshes = sourceDir() / "tests" / "meshes";
     return {scenes / "showcase.xml", scenes / "several_mirrors.xml", meshes / "pyramid.obj",
             meshes / "uv_sphere_12x24.obj", meshes / "pyramid.ply",
             assimpTestModel("glTF2/BoxTextured-glTF-Binary/BoxTextured.glb"), writeAuthoredGltf(generated),
-            writeIlluminationObj(generated)};
+            writeIlluminationObj(generated), assimpTestModel("OBJ/spider.obj")};
 }
 
 TEST(Convert, ConvertedSceneRendersBitIdentically) {

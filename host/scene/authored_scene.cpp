@@ -3,6 +3,7 @@
 #include "io/gltf_file.h"
 #include "io/mesh_file.h"
 #include "io/mtl_file.h"
+#include "scene/mesh_objects.h"
 #include "scene/scene_error.h"
 
 #include <algorithm>
@@ -260,8 +261,13 @@ Material materialFromMtl(const MtlMaterial& m, const std::string& file, std::vec
     const glm::dvec3 tf = m.Tf.value_or(glm::dvec3(1));
     const double ni = m.Ni.value_or(1.5);
     out.diffuseColor = kd;
-    out.diffuseTexture = {"", m.diffuseTexture};
-    if (m.normalMap) out.normalMap = {"", m.normalMap};
+    // The texture files by their absolute paths: the scene writer names them
+    // (relative to the file it writes), and reading them again decodes the same texels.
+    auto absolute = [](const std::filesystem::path& p) {
+        return p.empty() ? std::string() : std::filesystem::absolute(p).lexically_normal().string();
+    };
+    out.diffuseTexture = {absolute(m.diffuseTextureFile), m.diffuseTexture};
+    if (m.normalMap) out.normalMap = {absolute(m.normalMapFile), m.normalMap};
     // Ambient: Ka as ka * ambient colour (ka its largest channel); none: the
     // quick look's 0.1 of the diffuse colour.
     if (m.Ka) {
@@ -352,10 +358,17 @@ AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
         else objects[i].material.ambient = 0.1;
         objects[i].shape = Mesh{};
     }
+    // Degenerate triangles are dropped, as a scene file's <file> drops them
+    // (so that its <file part> renders the same).
+    size_t skipped = 0;
     for (size_t t = 0; t < data.triangles.size(); ++t) {
         Object& o = objects[data.triangleMaterials[t]];
         Mesh& mesh = std::get<Mesh>(o.shape);
         const auto& v = data.triangles[t];
+        if (degenerate({v[0], v[1], v[2]})) {
+            ++skipped;
+            continue;
+        }
         mesh.triangles.push_back({v[0], v[1], v[2]});
         if (!data.normals.empty()) mesh.normals.push_back(data.normals[t]);
         bool textured = o.material.diffuseTexture || o.material.normalMap;
@@ -365,6 +378,9 @@ AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
                 mesh.tangents.push_back(data.tangents.empty() ? std::array<glm::dvec3, 3>{} : data.tangents[t]);
         }
     }
+    if (skipped > 0)
+        scene.warnings.push_back(where + ": " + std::to_string(skipped) + " degenerate triangle" +
+                                 (skipped > 1 ? "s" : "") + " skipped");
     // Written back by the scene writer as <file part="material NAME">: a
     // material with a name of its own (Assimp's stand-in for triangles
     // without one has none, and a name used twice would take both).
