@@ -650,6 +650,16 @@ TEST(AuthoredCamera, ExposureScalesColourImages) {
     }
     EXPECT_GT(lit, 100);
     EXPECT_EQ(ak, bk);
+    // The record beside each image keeps the exposure (and the --camera choice).
+    for (const auto& [name, ev] : {std::pair{"e0.json", 0.0}, std::pair{"e1.5.json", 1.5}}) {
+        Json record = Json::parse(std::ifstream(dir / name));
+        EXPECT_EQ(record["settings"]["exposure"], ev) << name;
+        EXPECT_EQ(record["settings"]["camera"], "") << name;
+    }
+    ASSERT_EQ(runWhitted("render s.xml --camera 0 --exposure -2 -o c.png --spp 1 -q", dir).status, 0);
+    Json record = Json::parse(std::ifstream(dir / "c.json"));
+    EXPECT_EQ(record["settings"]["exposure"], -2.0);
+    EXPECT_EQ(record["settings"]["camera"], "0");
 }
 
 }  // namespace
