@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <tuple>
 
 namespace whitted::test {
 namespace {
@@ -503,6 +504,38 @@ TEST(AuthoredObj, IlluminationModelsAreMapped) {
     EXPECT_EQ(fg.ior, 1.33);
     EXPECT_DOUBLE_EQ(fg.reflection, std::pow(0.33 / 2.33, 2));
     EXPECT_TRUE(fg.diffuseTexture) << "a path with a space and a backslash";
+}
+
+// <file>scene.obj</file> in a scene file, without a colour of its own,
+// takes the MTL's materials exactly as `whitted render scene.obj` maps them
+// (one object per material, illum models included), and so does spider.obj,
+// whose Windows texture paths Assimp alone refuses.
+TEST(AuthoredObj, FileInASceneTakesTheMtlMaterials) {
+    fs::path dir = scratch("file_mtl");
+    fs::path obj = writeIlluminationObj(dir);
+    for (const fs::path& model : {obj, assimpTestModel("OBJ/spider.obj")}) {
+        std::ofstream(dir / "s.xml") << "<scene><camera><position x=\"0\" y=\"0\" z=\"5\"/><window_position x=\"0\" "
+                                        "y=\"0\" z=\"4\"/></camera><lights/><objects><object><properties><type>mesh</type>"
+                                        "<file>" << model.string() << "</file></properties></object></objects></scene>";
+        Scene xml = loadScene(dir / "s.xml");
+        Scene authored = loadSceneOrModel(model);
+        std::vector<const Object*> meshes;
+        for (const Object& o : authored.objects)
+            if (std::holds_alternative<Mesh>(o.shape)) meshes.push_back(&o);
+        ASSERT_EQ(xml.objects.size(), meshes.size()) << model;
+        for (size_t k = 0; k < meshes.size(); ++k) {
+            const Material &a = xml.objects[k].material, &b = meshes[k]->material;
+            EXPECT_EQ(xml.objects[k].name, meshes[k]->name);
+            EXPECT_EQ(a.diffuseColor, b.diffuseColor) << meshes[k]->name;
+            EXPECT_EQ(a.specularColor, b.specularColor) << meshes[k]->name;
+            EXPECT_EQ(std::tie(a.ambient, a.diffuse, a.specular, a.shininess, a.reflection, a.transmission, a.ior, a.fresnel),
+                      std::tie(b.ambient, b.diffuse, b.specular, b.shininess, b.reflection, b.transmission, b.ior, b.fresnel))
+                << meshes[k]->name;
+            EXPECT_EQ(a.transmissionColor, b.transmissionColor) << meshes[k]->name;
+            EXPECT_EQ(bool(a.diffuseTexture), bool(b.diffuseTexture)) << meshes[k]->name;
+            EXPECT_EQ(std::get<Mesh>(xml.objects[k].shape).triangles.size(), std::get<Mesh>(meshes[k]->shape).triangles.size());
+        }
+    }
 }
 
 // Rendered: a red square in front of an illum 3 mirror is seen in it; a

@@ -314,17 +314,16 @@ Material materialFromMtl(const MtlMaterial& m, const std::string& file, std::vec
     return out;
 }
 
-AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
-    AuthoredScene out;
-    Scene& scene = out.scene;
+std::map<std::string, Material> objMtlMaterials(const std::filesystem::path& path, std::vector<std::string>& warnings,
+                                                bool& normalMaps) {
     const std::string where = path.string();
     std::map<std::string, Material> byName;
-    bool normalMaps = false;
+    normalMaps = false;
     for (const std::filesystem::path& library : objMaterialLibraries(path)) {
         std::error_code ec;
         if (!std::filesystem::is_regular_file(library, ec)) {
-            scene.warnings.push_back(where + ": material library " + library.filename().string() +
-                                     " does not exist; its materials are white");
+            warnings.push_back(where + ": material library " + library.filename().string() +
+                               " does not exist; its materials are white");
             continue;
         }
         MtlFile mtl;
@@ -337,12 +336,21 @@ AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
             size_t message = text.find(": ", colon == std::string::npos ? 0 : colon);
             throw SceneError(library.string(), line, message == std::string::npos ? text : text.substr(message + 2));
         }
-        scene.warnings.insert(scene.warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
+        warnings.insert(warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
         for (const MtlMaterial& m : mtl.materials) {
-            byName[m.name] = materialFromMtl(m, library.string(), scene.warnings);
+            byName[m.name] = materialFromMtl(m, library.string(), warnings);
             normalMaps = normalMaps || m.normalMap;
         }
     }
+    return byName;
+}
+
+AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
+    AuthoredScene out;
+    Scene& scene = out.scene;
+    const std::string where = path.string();
+    bool normalMaps = false;
+    std::map<std::string, Material> byName = objMtlMaterials(path, scene.warnings, normalMaps);
     MeshFileData data;
     try {
         data = readMeshFile(path, MeshFileMaterials::Names, normalMaps);

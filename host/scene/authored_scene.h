@@ -8,6 +8,7 @@
 #include "scene/scene.h"
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,13 @@ std::vector<std::filesystem::path> objMaterialLibraries(const std::filesystem::p
 // "FILE:LINE: reason".
 AuthoredScene loadGltfScene(const std::filesystem::path& path);
 AuthoredScene loadObjMtlScene(const std::filesystem::path& path);
+
+// The materials of an OBJ file's MTL libraries (mtllib), mapped, by name;
+// `normalMaps`: whether any has one. A library that does not exist is a
+// warning; one that cannot be read throws SceneError (FILE.mtl:LINE). The
+// OBJ/MTL scene and a scene file's <file> of such an OBJ both use it.
+std::map<std::string, Material> objMtlMaterials(const std::filesystem::path& path, std::vector<std::string>& warnings,
+                                                bool& normalMaps);
 
 // The mappings themselves (scenes/README.md gives the formulas).
 Material materialFromGltf(const GltfMaterial& material);

@@ -307,12 +307,24 @@ Mesh readMeshFile(const Diagnostics& diag, const XMLElement* e, const Placement&
     if (!part.empty() && isGltfFile(path))
         return readGltfPart(diag, e, placement, path, part, name, fileMaterials, files);
 
+    // An OBJ file with MTL libraries whose materials apply: mapped by
+    // whitted's MTL reader, as `whitted render FILE.obj` maps them (Assimp
+    // 5.2 keeps only illum 0-2 and refuses Windows texture paths).
+    std::map<std::string, Material> mtl;
+    bool mtlNormalMaps = false;
+    const bool withMtl = fileMaterials.wanted && !objMaterialLibraries(path).empty();
+    if (withMtl) {
+        std::vector<std::string> warnings;
+        mtl = objMtlMaterials(path, warnings, mtlNormalMaps);
+        for (const std::string& w : warnings) diag.warn(e, w);
+    }
     // Tangents where a normal map may apply: the scene's or the file's.
     const XMLElement* properties = e->Parent()->ToElement();
-    const bool tangents = fileMaterials.wanted || properties->FirstChildElement("normal_map");
-    const MeshFileMaterials mode = fileMaterials.wanted ? MeshFileMaterials::Read
-                                   : part.empty()       ? MeshFileMaterials::Ignore
-                                                        : MeshFileMaterials::Names;
+    const bool tangents = withMtl ? mtlNormalMaps || properties->FirstChildElement("normal_map")
+                                  : fileMaterials.wanted || properties->FirstChildElement("normal_map");
+    const MeshFileMaterials mode = withMtl || (!part.empty() && !fileMaterials.wanted) ? MeshFileMaterials::Names
+                                   : fileMaterials.wanted                             ? MeshFileMaterials::Read
+                                                                                      : MeshFileMaterials::Ignore;
     std::shared_ptr<const MeshFileData> read;
     try {
         if (part.empty()) {
@@ -392,7 +404,17 @@ Mesh readMeshFile(const Diagnostics& diag, const XMLElement* e, const Placement&
     if (mesh.triangles.empty()) diag.fail(e, "every triangle in " + name + " is degenerate");
     mesh.source = Mesh::FileSource{std::filesystem::absolute(path).lexically_normal(), placement.position,
                                    placement.scale, placement.rotationDegrees, -1, part, placement.matrix};
-    if (fileMaterials.wanted && !data.triangleMaterials.empty()) fileMaterials.materials = data.materials;
+    if (fileMaterials.wanted && !data.triangleMaterials.empty()) {
+        fileMaterials.materials = data.materials;
+        fileMaterials.names = data.materialNames;
+        if (withMtl)
+            for (const std::string& n : data.materialNames) {
+                auto it = mtl.find(n);
+                Material m;
+                m.ambient = 0.1;  // a material the libraries lack: white, as the OBJ/MTL scene has it
+                fileMaterials.authored.push_back(it != mtl.end() ? it->second : m);
+            }
+    }
     if (skipped > 0)
         diag.warn(e, name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
                          " skipped");
@@ -448,6 +470,13 @@ std::vector<Object> splitByFileMaterial(Object whole, const FileMaterials& fileM
             if (!mesh.tangents.empty()) piece.tangents.push_back(mesh.tangents[i]);
         }
         if (piece.triangles.empty()) continue;
+        if (!fileMaterials.authored.empty()) {  // the file's MTL material, whole
+            part.material = fileMaterials.authored[k];
+            if (part.name.empty()) part.name = fileMaterials.names[k];
+            if (piece.uvs.empty()) part.material.diffuseTexture = {}, part.material.normalMap = {};
+            if (part.material.normalMap && piece.tangents.empty())
+                piece.tangents.assign(piece.triangles.size(), std::array<glm::dvec3, 3>{});
+        }
         if (materials[k].baseColourTexture && !piece.uvs.empty())
             part.material.diffuseTexture = {"", materials[k].baseColourTexture};
         if (materials[k].normalTexture && !piece.uvs.empty() && !part.material.normalMap)

@@ -30,10 +30,15 @@ Triangle readTriangle(const xml::Diagnostics& diag, const xml::XMLElement* paren
 // A model file's own materials while its object is read: `wanted` (set by
 // the caller) when the object gives no colour of its own; the reader then
 // fills `materials` and, for each triangle it keeps, its index into them.
+// An OBJ file with MTL libraries gives whole materials instead (`authored`,
+// one per material of the file, mapped as the OBJ/MTL scene maps them), and
+// `names`, its materials' names.
 struct FileMaterials {
     bool wanted = false;
     std::vector<MeshFileMaterial> materials;
     std::vector<uint32_t> triangleMaterials;
+    std::vector<Material> authored;
+    std::vector<std::string> names;
 };
 
 struct GltfFile;  // io/gltf_file.h

@@ -88,7 +88,9 @@ std::string textureText(const TextureRef& texture, const FilePlaces& places) {
     return fileText(std::filesystem::absolute(path).lexically_normal(), places);
 }
 
-void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& places) {
+// `diffuseTexture`: false for a model file whose own materials apply (its
+// textures come back with them, and a <diffuse_texture> would stop them applying).
+void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& places, bool diffuseTexture = true) {
     x.value("refraction_coef", m.ior);
     x.value("transmission_coef", m.transmission);
     x.value("specular_coef", m.specular);
@@ -109,7 +111,7 @@ void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& pla
     // Texture files, relative to the written file's folder. (A model file's
     // own texture has no path to write: the file is written again as its
     // <file>, without a colour, and brings it back.)
-    if (m.diffuseTexture && !m.diffuseTexture.written.empty())
+    if (diffuseTexture && m.diffuseTexture && !m.diffuseTexture.written.empty())
         x.value("diffuse_texture", textureText(m.diffuseTexture, places));
     if (m.normalMap && !m.normalMap.written.empty()) {
         x.value("normal_map", textureText(m.normalMap, places));
@@ -195,7 +197,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
     x.open("properties");
     static const char* kTypes[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh", "csg"};
     x.value("type", kTypes[shape.index()]);
-    if (writeMaterial) writeMaterialProperties(x, m, places);
+    if (writeMaterial) writeMaterialProperties(x, m, places, !fileMaterials);
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
