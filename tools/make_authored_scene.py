@@ -9,7 +9,7 @@ a spot light and a directional light. Python's standard library only; the
 buffer is embedded as base64, so the file stands alone. Deterministic.
 
     tools/make_authored_scene.py [OUT.gltf]     # default: scenes/pictures/authored.gltf
-    build/whitted render scenes/pictures/authored.gltf --width 480 --height 270 --spp 4 \\
+    build/whitted render scenes/pictures/authored.gltf --width 480 --height 270 --spp 4 --aov none \\
         -o scenes/pictures/authored.png
 """
 
