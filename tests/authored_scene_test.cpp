@@ -18,6 +18,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <tuple>
 
 namespace whitted::test {
 namespace {
@@ -30,20 +31,6 @@ fs::path scratch(const std::string& name) { return freshOutputDir("authored", na
 
 CommandRun runWhitted(const std::string& args, const fs::path& cwd) {
     return runCommand("'" WHITTED_EXECUTABLE "' " + args, cwd);
-}
-
-std::string base64(const std::vector<unsigned char>& bytes) {
-    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    std::string out;
-    for (size_t i = 0; i < bytes.size(); i += 3) {
-        uint32_t v = uint32_t(bytes[i]) << 16 | (i + 1 < bytes.size() ? uint32_t(bytes[i + 1]) << 8 : 0) |
-                     (i + 2 < bytes.size() ? bytes[i + 2] : 0);
-        out += table[v >> 18 & 63];
-        out += table[v >> 12 & 63];
-        out += i + 1 < bytes.size() ? table[v >> 6 & 63] : '=';
-        out += i + 2 < bytes.size() ? table[v & 63] : '=';
-    }
-    return out;
 }
 
 // A glTF document with one mesh: a square of side `side` in the xy plane
@@ -381,28 +368,108 @@ TEST(AuthoredGltf, BadFilesNameTheJsonPath) {
 
 // ---- OBJ / MTL ----
 
+// Rendered glTF lights: a Lambert floor (albedo rho, m = 0, r = 1) of the
+// square mesh turned to face +y, seen straight down by an orthographic
+// camera (pixel (x, y) sees the floor point (-2 + 4 (x + 0.5) / 64, 0,
+// -2 + 4 (y + 0.5) / 64)), ambient 0. `lights` are KHR_lights_punctual
+// lights, `lightNodes` their nodes; `plate` adds a 1 x 1 square at y = 1
+// above the origin.
+RenderResult renderGltfFloor(const fs::path& path, const Json& lights, const Json& lightNodes, bool plate, double rho) {
+    Json j = squareGltf(1);
+    j["extensionsUsed"] = {"KHR_lights_punctual"};
+    j["extensions"]["KHR_lights_punctual"]["lights"] = lights;
+    j["materials"] = Json::array({{{"pbrMetallicRoughness", {{"baseColorFactor", {rho, rho, rho, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}}}});
+    j["meshes"][0]["primitives"][0]["material"] = 0;
+    glm::dquat faceUp = glm::angleAxis(glm::radians(-90.0), glm::dvec3(1, 0, 0));  // +z -> +y, -z -> -y
+    Json rotation = {faceUp.x, faceUp.y, faceUp.z, faceUp.w};
+    j["cameras"] = Json::array({{{"type", "orthographic"}, {"orthographic", {{"xmag", 2}, {"ymag", 2}, {"znear", 0.1}, {"zfar", 100}}}}});
+    j["nodes"] = Json::array({{{"name", "floor"}, {"mesh", 0}, {"scale", {4, 4, 4}}, {"rotation", rotation}},
+                              {{"name", "eye"}, {"camera", 0}, {"translation", {0, 5, 0}}, {"rotation", rotation}}});
+    Json roots = {0, 1};
+    if (plate) {
+        j["nodes"].push_back({{"name", "plate"}, {"mesh", 0}, {"translation", {0, 1, 0}}, {"rotation", rotation}});
+        roots.push_back(2);
+    }
+    for (const Json& node : lightNodes) {
+        roots.push_back(j["nodes"].size());
+        j["nodes"].push_back(node);
+    }
+    j["scenes"] = Json::array({{{"nodes", roots}}});
+    Scene scene = loadSceneOrModel(writeJson(path, j));
+    return renderScene(scene, {.width = 64, .height = 64, .samplesPerPixel = 1, .maxDepth = 2,
+                               .antiAliasing = AntiAliasing::Uniform});
+}
+
+glm::dvec3 floorPoint(int x, int y) { return {-2 + 4 * (x + 0.5) / 64, 0, -2 + 4 * (y + 0.5) / 64}; }
+
+// A glTF spot light of I candela straight down from height h over the
+// floor: radiance rho / pi * E, E = I cos(incidence) / d^2 times the cone's
+// saturate((cos theta - cos outer) / (cos inner - cos outer))^2 (the
+// specification's formulas, whitted's intensity being I / pi); right under
+// it rho / pi * I / h^2.
+TEST(AuthoredGltfRender, SpotConeAndRadianceRhoOverPiE) {
+    const double rho = 0.5, candela = 6, inner = 0.3, outer = 0.6;
+    const glm::dvec3 light(0.3, 2, -0.2);
+    glm::dquat down = glm::angleAxis(glm::radians(-90.0), glm::dvec3(1, 0, 0));  // -Z -> -Y
+    Json lights = Json::array({{{"type", "spot"}, {"intensity", candela}, {"spot", {{"innerConeAngle", inner}, {"outerConeAngle", outer}}}}});
+    Json nodes = Json::array({{{"translation", {light.x, light.y, light.z}}, {"rotation", {down.x, down.y, down.z, down.w}},
+                               {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}});
+    RenderResult r = renderGltfFloor(scratch("spot_render") / "spot.gltf", lights, nodes, false, rho);
+    ASSERT_EQ(r.width, 64);
+    int inside = 0, ramp = 0, outside = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            glm::dvec3 toLight = light - floorPoint(x, y);
+            double d = glm::length(toLight), cosTheta = toLight.y / d;  // the spot's axis is -y, the floor's normal +y
+            double s = std::clamp((cosTheta - std::cos(outer)) / (std::cos(inner) - std::cos(outer)), 0.0, 1.0);
+            double expected = rho / kPi * candela * cosTheta / (d * d) * s * s;
+            glm::vec4 got = pixel(r, gpu::kAovColor, x, y);
+            for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], expected, 2e-4 * std::max(1.0, expected)) << x << "," << y;
+            (s >= 1 ? inside : s <= 0 ? outside : ramp) += 1;
+        }
+    EXPECT_GT(inside, 100);
+    EXPECT_GT(ramp, 300);
+    EXPECT_GT(outside, 300);
+    // Under the light (pixel (37, 28) sees (0.34375, 0, -0.1875), 0.046 off the axis: cos 0.9997, d^2 4.002).
+    EXPECT_NEAR(pixel(r, gpu::kAovColor, 37, 28).g, rho / kPi * candela / (light.y * light.y), 1e-3);
+}
+
+// A glTF directional light of E lux travelling along t: the floor shows
+// rho / pi * E * cos(incidence) except in the plate's shadow, the plate
+// (|x|, |z| <= 0.5 at y = 1) moved along t to the floor: exactly the points
+// whose ray towards the light meets it. Pixels within 1e-3 of the outline
+// are too close to call; pixels that see the plate are left out.
+TEST(AuthoredGltfRender, DirectionalShadowHasThePlatesProjectedOutline) {
+    const double rho = 0.8, lux = 2;
+    const glm::dvec3 travel = glm::normalize(glm::dvec3(0.45, -1, 0.3));
+    // The node's rotation takes -Z to `travel`: about the axis -Z x travel.
+    glm::dvec3 axis = glm::cross(glm::dvec3(0, 0, -1), travel);
+    glm::dquat q = glm::angleAxis(std::acos(glm::dot(glm::dvec3(0, 0, -1), travel)), glm::normalize(axis));
+    Json lights = Json::array({{{"type", "directional"}, {"intensity", lux}}});
+    Json nodes = Json::array({{{"rotation", {q.x, q.y, q.z, q.w}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}});
+    RenderResult r = renderGltfFloor(scratch("sun_render") / "sun.gltf", lights, nodes, true, rho);
+    ASSERT_EQ(r.width, 64);
+    int shadowed = 0, lit = 0;
+    for (int y = 0; y < 64; ++y)
+        for (int x = 0; x < 64; ++x) {
+            glm::dvec3 p = floorPoint(x, y);
+            if (std::abs(p.x) <= 0.5 + 1e-3 && std::abs(p.z) <= 0.5 + 1e-3) continue;  // sees the plate
+            glm::dvec3 atPlate = p - travel * (1.0 / -travel.y);  // towards the light, up to y = 1
+            double margin = std::max(std::abs(atPlate.x), std::abs(atPlate.z)) - 0.5;  // < 0: through the plate
+            if (std::abs(margin) < 1e-3) continue;
+            double expected = margin < 0 ? 0.0 : rho / kPi * lux * -travel.y;
+            EXPECT_NEAR(pixel(r, gpu::kAovColor, x, y).r, expected, 2e-4) << x << "," << y;
+            (margin < 0 ? shadowed : lit) += 1;
+        }
+    EXPECT_GT(shadowed, 100);
+    EXPECT_GT(lit, 1500);
+}
+
 // A generated OBJ/MTL with illum 2, 3, 5, 6 and 7 objects: the mapped
 // values, the mirror showing the object in front of it, the glass bending.
 TEST(AuthoredObj, IlluminationModelsAreMapped) {
     fs::path dir = scratch("illum");
-    fs::create_directories(dir / "tex dir");
-    writeQuadrantTexture(dir / "tex dir" / "quad.png");
-    std::ofstream(dir / "scene.mtl") << "# illumination models\n"
-                                        "newmtl plastic\nKa 0.1 0.1 0.1\nKd 0.8 0.2 0.2\nKs 0.5 0.5 0.5\nNs 50\nillum 2\n"
-                                        "newmtl mirror\nKd 0 0 0\nKs 0.9 0.9 0.9\nillum 3\n"
-                                        "newmtl fresnel_mirror\nKd 0.1 0.1 0.1\nKs 1 1 1\nNi 2\nillum 5\n"
-                                        "newmtl glass\nKd 0 0 0\nKs 0.1 0.1 0.1\nTf 1 0.9 0.8\nNi 1.5\nillum 6\n"
-                                        "newmtl fresnel_glass\nKd 0 0 0\nKs 0 0 0\nNi 1.33\nillum 7\nmap_Kd tex dir\\quad.png\n";
-    std::ofstream obj(dir / "scene.obj");
-    obj << "mtllib scene.mtl\n";
-    const char* names[] = {"plastic", "mirror", "fresnel_mirror", "glass", "fresnel_glass"};
-    for (int i = 0; i < 5; ++i) {
-        obj << "v " << i * 2 << " 0 0\nv " << i * 2 + 1 << " 0 0\nv " << i * 2 + 1 << " 1 0\n";
-        obj << "vt 0 0\nvt 1 0\nvt 1 1\n";
-        obj << "usemtl " << names[i] << "\nf " << i * 3 + 1 << "/" << i * 3 + 1 << " " << i * 3 + 2 << "/" << i * 3 + 2
-            << " " << i * 3 + 3 << "/" << i * 3 + 3 << "\n";
-    }
-    obj.close();
+    writeIlluminationObj(dir);  // plastic, mirror, fresnel_mirror, glass, fresnel_glass
     Scene scene = loadSceneOrModel(dir / "scene.obj");
     ASSERT_EQ(scene.objects.size(), 6u);  // five materials and the floor
     auto find = [&](const std::string& name) -> const Material& {
@@ -437,6 +504,38 @@ TEST(AuthoredObj, IlluminationModelsAreMapped) {
     EXPECT_EQ(fg.ior, 1.33);
     EXPECT_DOUBLE_EQ(fg.reflection, std::pow(0.33 / 2.33, 2));
     EXPECT_TRUE(fg.diffuseTexture) << "a path with a space and a backslash";
+}
+
+// <file>scene.obj</file> in a scene file, without a colour of its own,
+// takes the MTL's materials exactly as `whitted render scene.obj` maps them
+// (one object per material, illum models included), and so does spider.obj,
+// whose Windows texture paths Assimp alone refuses.
+TEST(AuthoredObj, FileInASceneTakesTheMtlMaterials) {
+    fs::path dir = scratch("file_mtl");
+    fs::path obj = writeIlluminationObj(dir);
+    for (const fs::path& model : {obj, assimpTestModel("OBJ/spider.obj")}) {
+        std::ofstream(dir / "s.xml") << "<scene><camera><position x=\"0\" y=\"0\" z=\"5\"/><window_position x=\"0\" "
+                                        "y=\"0\" z=\"4\"/></camera><lights/><objects><object><properties><type>mesh</type>"
+                                        "<file>" << model.string() << "</file></properties></object></objects></scene>";
+        Scene xml = loadScene(dir / "s.xml");
+        Scene authored = loadSceneOrModel(model);
+        std::vector<const Object*> meshes;
+        for (const Object& o : authored.objects)
+            if (std::holds_alternative<Mesh>(o.shape)) meshes.push_back(&o);
+        ASSERT_EQ(xml.objects.size(), meshes.size()) << model;
+        for (size_t k = 0; k < meshes.size(); ++k) {
+            const Material &a = xml.objects[k].material, &b = meshes[k]->material;
+            EXPECT_EQ(xml.objects[k].name, meshes[k]->name);
+            EXPECT_EQ(a.diffuseColor, b.diffuseColor) << meshes[k]->name;
+            EXPECT_EQ(a.specularColor, b.specularColor) << meshes[k]->name;
+            EXPECT_EQ(std::tie(a.ambient, a.diffuse, a.specular, a.shininess, a.reflection, a.transmission, a.ior, a.fresnel),
+                      std::tie(b.ambient, b.diffuse, b.specular, b.shininess, b.reflection, b.transmission, b.ior, b.fresnel))
+                << meshes[k]->name;
+            EXPECT_EQ(a.transmissionColor, b.transmissionColor) << meshes[k]->name;
+            EXPECT_EQ(bool(a.diffuseTexture), bool(b.diffuseTexture)) << meshes[k]->name;
+            EXPECT_EQ(std::get<Mesh>(xml.objects[k].shape).triangles.size(), std::get<Mesh>(meshes[k]->shape).triangles.size());
+        }
+    }
 }
 
 // Rendered: a red square in front of an illum 3 mirror is seen in it; a
@@ -584,6 +683,16 @@ TEST(AuthoredCamera, ExposureScalesColourImages) {
     }
     EXPECT_GT(lit, 100);
     EXPECT_EQ(ak, bk);
+    // The record beside each image keeps the exposure (and the --camera choice).
+    for (const auto& [name, ev] : {std::pair{"e0.json", 0.0}, std::pair{"e1.5.json", 1.5}}) {
+        Json record = Json::parse(std::ifstream(dir / name));
+        EXPECT_EQ(record["settings"]["exposure"], ev) << name;
+        EXPECT_EQ(record["settings"]["camera"], "") << name;
+    }
+    ASSERT_EQ(runWhitted("render s.xml --camera 0 --exposure -2 -o c.png --spp 1 -q", dir).status, 0);
+    Json record = Json::parse(std::ifstream(dir / "c.json"));
+    EXPECT_EQ(record["settings"]["exposure"], -2.0);
+    EXPECT_EQ(record["settings"]["camera"], "0");
 }
 
 }  // namespace

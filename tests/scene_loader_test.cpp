@@ -489,7 +489,7 @@ const std::string kPropertyList =
     "type, refraction_coef, transmission_coef, specular_coef, diffuse_coef, ambiente_coef, reflective, shininess, "
     "reflection_coef, checker_color, checker_size, absorption, diffuse_texture, texture_scale, normal_map, "
     "normal_strength, fresnel, transmission_color, emission, ambient_color, radius, height, axis, normal, size, "
-    "vertex, polygons, file, scale, rotation, operation";
+    "vertex, polygons, file, scale, rotation, matrix, operation";
 
 std::vector<BadCase> xmlCases() {
     const std::string camera =

@@ -8,6 +8,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <sys/wait.h>
 #include <vector>
 
@@ -61,6 +62,41 @@ std::filesystem::path freshOutputDir(const std::string& group, const std::string
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     return dir;
+}
+
+std::string base64(const std::vector<unsigned char>& bytes) {
+    static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (size_t i = 0; i < bytes.size(); i += 3) {
+        uint32_t v = uint32_t(bytes[i]) << 16 | (i + 1 < bytes.size() ? uint32_t(bytes[i + 1]) << 8 : 0) |
+                     (i + 2 < bytes.size() ? bytes[i + 2] : 0);
+        out += table[v >> 18 & 63];
+        out += table[v >> 12 & 63];
+        out += i + 1 < bytes.size() ? table[v >> 6 & 63] : '=';
+        out += i + 2 < bytes.size() ? table[v & 63] : '=';
+    }
+    return out;
+}
+
+std::filesystem::path writeIlluminationObj(const std::filesystem::path& dir) {
+    std::filesystem::create_directories(dir / "tex dir");
+    writeQuadrantTexture(dir / "tex dir" / "quad.png");
+    std::ofstream(dir / "scene.mtl") << "# illumination models\n"
+                                        "newmtl plastic\nKa 0.1 0.1 0.1\nKd 0.8 0.2 0.2\nKs 0.5 0.5 0.5\nNs 50\nillum 2\n"
+                                        "newmtl mirror\nKd 0 0 0\nKs 0.9 0.9 0.9\nillum 3\n"
+                                        "newmtl fresnel_mirror\nKd 0.1 0.1 0.1\nKs 1 1 1\nNi 2\nillum 5\n"
+                                        "newmtl glass\nKd 0 0 0\nKs 0.1 0.1 0.1\nTf 1 0.9 0.8\nNi 1.5\nillum 6\n"
+                                        "newmtl fresnel_glass\nKd 0 0 0\nKs 0 0 0\nNi 1.33\nillum 7\nmap_Kd tex dir\\quad.png\n";
+    std::ofstream obj(dir / "scene.obj");
+    obj << "mtllib scene.mtl\n";
+    const char* names[] = {"plastic", "mirror", "fresnel_mirror", "glass", "fresnel_glass"};
+    for (int i = 0; i < 5; ++i) {
+        obj << "v " << i * 2 << " 0 0\nv " << i * 2 + 1 << " 0 0\nv " << i * 2 + 1 << " 1 0\n";
+        obj << "vt 0 0\nvt 1 0\nvt 1 1\n";
+        obj << "usemtl " << names[i] << "\nf " << i * 3 + 1 << "/" << i * 3 + 1 << " " << i * 3 + 2 << "/" << i * 3 + 2
+            << " " << i * 3 + 3 << "/" << i * 3 + 3 << "\n";
+    }
+    return dir / "scene.obj";
 }
 
 std::filesystem::path assimpTestModel(const std::string& relative) {

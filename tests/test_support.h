@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 namespace whitted::test {
 
@@ -33,6 +34,13 @@ std::filesystem::path sourceDir();
 std::filesystem::path outputDir();  // created on demand, for diff images
 // outputDir()/group/name, emptied and created: a test's scratch folder.
 std::filesystem::path freshOutputDir(const std::string& group, const std::string& name);
+// Standard base64 of `bytes`, for the data: URIs of generated glTF files.
+std::string base64(const std::vector<unsigned char>& bytes);
+// scene.obj and scene.mtl in `dir`: five triangles side by side, one per
+// MTL illumination model (plastic: illum 2, mirror: 3, fresnel_mirror: 5,
+// glass: 6, fresnel_glass: 7, the last with a texture named by a Windows
+// path, "tex dir\quad.png", written beside them). Returns scene.obj.
+std::filesystem::path writeIlluminationObj(const std::filesystem::path& dir);
 // A model of Debian's assimp-testmodels (tools/install_deps.sh) by its path
 // under /usr/share/assimp/models, e.g. "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb".
 std::filesystem::path assimpTestModel(const std::string& relative);

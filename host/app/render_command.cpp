@@ -173,7 +173,8 @@ int runRenderCommand(const RenderCommandOptions& options) {
     auto recordJson = [&] {
         return renderRecordJson({.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
                                  .device = ctx.deviceInfo(), .sharedWith = sharedWith(), .result = &result, .files = files, .loadSeconds = loadSeconds,
-                                 .masks = settings.ids ? &scene : nullptr});
+                                 .masks = settings.ids ? &scene : nullptr, .exposure = options.exposure,
+                                 .camera = options.camera});
     };
     bool clean = true;
     if (options.output) {

@@ -110,11 +110,11 @@ MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials w
     }
 
     MeshFileData data;
-    if (withMaterials == MeshFileMaterials::Names)
+    if (withMaterials != MeshFileMaterials::Ignore)
         for (unsigned m = 0; m < scene->mNumMaterials; ++m) {
             const aiString name = scene->mMaterials[m]->GetName();
             data.materialNames.push_back(name == aiString(AI_DEFAULT_MATERIAL_NAME) ? "" : name.C_Str());
-            data.materials.emplace_back();
+            if (withMaterials == MeshFileMaterials::Names) data.materials.emplace_back();
         }
     if (withMaterials == MeshFileMaterials::Read)
         for (unsigned m = 0; m < scene->mNumMaterials; ++m) {

@@ -52,8 +52,8 @@ struct MeshFileData {
     // index into them.
     std::vector<MeshFileMaterial> materials;
     std::vector<uint32_t> triangleMaterials;
-    // With MeshFileMaterials::Names: each material's name (empty for the
-    // one Assimp makes up for triangles without a material).
+    // With MeshFileMaterials::Names or Read: each material's name (empty
+    // for the one Assimp makes up for triangles without a material).
     std::vector<std::string> materialNames;
     // With tangents asked for: each triangle's unit vertex tangents
     // (Assimp's aiProcess_CalcTangentSpace, along +u), or empty when the

@@ -69,14 +69,18 @@ public:
                 double bm = 1;
                 std::string name = textureName(rest, bm);
                 m->diffuseTexture = texture(name, TextureEncoding::Colour);
+                m->diffuseTextureFile = mtlPath(path_.parent_path(), name);
             } else if (key == "norm") {
                 double bm = 1;
-                m->normalMap = texture(textureName(rest, bm), TextureEncoding::Data);
+                std::string name = textureName(rest, bm);
+                m->normalMap = texture(name, TextureEncoding::Data);
+                m->normalMapFile = mtlPath(path_.parent_path(), name);
             } else if (key == "bump" || key == "map_bump" || key == "map_Bump") {
                 double bm = 1;
                 std::string name = textureName(rest, bm);
                 auto heights = texture(name, TextureEncoding::Data);
                 m->normalMap = normalMapFromHeights(*heights, bm);
+                m->normalMapFile.clear();
             }
             // Other keys (map_Ka, map_Ks, refl, sharpness, ...) are not used.
         }

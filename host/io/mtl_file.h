@@ -38,6 +38,9 @@ struct MtlMaterial {
     // turned into one: n = normalize(-bm dh/dx, -bm dh/dy, 1), the height's
     // differences between neighbouring texels (x right, y up the image).
     std::shared_ptr<const TextureData> normalMap;
+    // The files they were read from (normalMapFile: only for norm; a bump's
+    // normal map is made here), for a scene file that names them again.
+    std::filesystem::path diffuseTextureFile, normalMapFile;
 };
 
 struct MtlFile {

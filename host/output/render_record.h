@@ -29,6 +29,8 @@ struct RenderRecord {
     // With mask images (object_id, material_id): the scene whose objects and
     // materials their ids index; the record then lists them ("masks").
     const Scene* masks = nullptr;
+    double exposure = 0;  // --exposure EV
+    std::string camera;   // --camera INDEX|NAME as given; empty: the scene's (a model's first) camera
 };
 
 // The masks' legend: index -> name of every object and every material, as

@@ -101,7 +101,8 @@ struct Result {
                                                                    .tonemap = tonemap, .device = device, .sharedWith = {},
                                                                    .result = &stats, .files = files,
                                                                    .loadSeconds = loadSeconds,
-                                                                   .masks = masksScene.get()}));
+                                                                   .masks = masksScene.get(), .exposure = 0,
+                                                                   .camera = {}}));
         j["uploads"] = uploads;
         return j.dump(2) + "\n";
     }

@@ -3,6 +3,7 @@
 #include "io/gltf_file.h"
 #include "io/mesh_file.h"
 #include "io/mtl_file.h"
+#include "scene/mesh_objects.h"
 #include "scene/scene_error.h"
 
 #include <algorithm>
@@ -113,6 +114,46 @@ Light lightFromGltf(const GltfLight& g, const glm::dmat4& world) {
     return light;
 }
 
+std::string gltfPartName(size_t mesh, size_t primitive) {
+    return "mesh " + std::to_string(mesh) + " primitive " + std::to_string(primitive);
+}
+
+Mesh meshFromGltfPrimitive(const GltfPrimitive& prim, const glm::dmat4& world, bool textured, bool normalMapped) {
+    const glm::dmat3 linear(world);
+    const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
+    const bool flip = glm::determinant(linear) < 0;  // mirrored: the winding turns over
+    textured = textured && !prim.uvs.empty();
+    Mesh out;
+    for (size_t i = 0; i + 2 < prim.indices.size(); i += 3) {
+        std::array<uint32_t, 3> v{prim.indices[i], prim.indices[i + 1], prim.indices[i + 2]};
+        if (flip) std::swap(v[1], v[2]);
+        Triangle t;
+        glm::dvec3* corners[3] = {&t.v0, &t.v1, &t.v2};
+        for (int k = 0; k < 3; ++k) *corners[k] = glm::dvec3(world * glm::dvec4(prim.positions[v[size_t(k)]], 1));
+        out.triangles.push_back(t);
+        if (!prim.normals.empty()) {
+            std::array<glm::dvec3, 3> n;
+            glm::dvec3 flat = glm::cross(t.v1 - t.v0, t.v2 - t.v0);
+            flat = glm::length(flat) > 0 ? glm::normalize(flat) : glm::dvec3(0, 0, 1);
+            for (int k = 0; k < 3; ++k) {
+                glm::dvec3 x = normalMatrix * prim.normals[v[size_t(k)]];
+                n[size_t(k)] = glm::length(x) > 1e-12 && std::isfinite(glm::length(x)) ? glm::normalize(x) : flat;
+            }
+            out.normals.push_back(n);
+        }
+        if (textured) {
+            std::array<glm::dvec2, 3> uv;
+            for (int k = 0; k < 3; ++k) {
+                glm::dvec2 u = prim.uvs[v[size_t(k)]];
+                uv[size_t(k)] = glm::dvec2(u.x, 1.0 - u.y);  // glTF's v runs down the image
+            }
+            out.uvs.push_back(uv);
+            if (normalMapped) out.tangents.push_back(tangentsOf(t, uv));
+        }
+    }
+    return out;
+}
+
 AuthoredScene loadGltfScene(const std::filesystem::path& path) {
     GltfFile file;
     try {
@@ -128,6 +169,7 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
     std::vector<Material> materials;
     for (const GltfMaterial& m : file.materials) materials.push_back(materialFromGltf(m));
     const std::string where = path.string();
+    const std::filesystem::path absolutePath = std::filesystem::absolute(path).lexically_normal();
 
     std::function<void(int, const glm::dmat4&)> visit = [&](int index, const glm::dmat4& parent) {
         const GltfNode& node = file.nodes[size_t(index)];
@@ -172,8 +214,6 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
         }
         if (node.mesh >= 0) {
             const GltfMesh& mesh = file.meshes[size_t(node.mesh)];
-            const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
-            const bool flip = glm::determinant(linear) < 0;  // mirrored: the winding turns over
             for (size_t p = 0; p < mesh.primitives.size(); ++p) {
                 const GltfPrimitive& prim = mesh.primitives[p];
                 if (prim.indices.empty()) continue;
@@ -184,7 +224,6 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
                 } else {  // no material: white Lambert (the specification's default, a rough metal, is black here)
                     object.material.ambient = 0;
                 }
-                Mesh out;
                 bool textured = object.material.diffuseTexture || object.material.normalMap;
                 if (textured && prim.uvs.empty()) {
                     scene.warnings.push_back(where + ": node \"" + nodeName +
@@ -193,33 +232,10 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
                     object.material.normalMap = {};
                     textured = false;
                 }
-                for (size_t i = 0; i + 2 < prim.indices.size(); i += 3) {
-                    std::array<uint32_t, 3> v{prim.indices[i], prim.indices[i + 1], prim.indices[i + 2]};
-                    if (flip) std::swap(v[1], v[2]);
-                    Triangle t;
-                    glm::dvec3* corners[3] = {&t.v0, &t.v1, &t.v2};
-                    for (int k = 0; k < 3; ++k) *corners[k] = glm::dvec3(world * glm::dvec4(prim.positions[v[size_t(k)]], 1));
-                    out.triangles.push_back(t);
-                    if (!prim.normals.empty()) {
-                        std::array<glm::dvec3, 3> n;
-                        glm::dvec3 flat = glm::cross(t.v1 - t.v0, t.v2 - t.v0);
-                        flat = glm::length(flat) > 0 ? glm::normalize(flat) : glm::dvec3(0, 0, 1);
-                        for (int k = 0; k < 3; ++k) {
-                            glm::dvec3 x = normalMatrix * prim.normals[v[size_t(k)]];
-                            n[size_t(k)] = glm::length(x) > 1e-12 && std::isfinite(glm::length(x)) ? glm::normalize(x) : flat;
-                        }
-                        out.normals.push_back(n);
-                    }
-                    if (textured) {
-                        std::array<glm::dvec2, 3> uv;
-                        for (int k = 0; k < 3; ++k) {
-                            glm::dvec2 u = prim.uvs[v[size_t(k)]];
-                            uv[size_t(k)] = glm::dvec2(u.x, 1.0 - u.y);  // glTF's v runs down the image
-                        }
-                        out.uvs.push_back(uv);
-                        if (object.material.normalMap) out.tangents.push_back(tangentsOf(t, uv));
-                    }
-                }
+                Mesh out = meshFromGltfPrimitive(prim, world, textured, bool(object.material.normalMap));
+                // Written back by the scene writer as <file part="mesh M primitive P"> with <matrix>.
+                out.source = Mesh::FileSource{absolutePath, glm::dvec3(0), glm::dvec3(1), glm::dvec3(0), -1,
+                                              gltfPartName(size_t(node.mesh), p), world};
                 object.shape = std::move(out);
                 scene.objects.push_back(std::move(object));
             }
@@ -245,8 +261,13 @@ Material materialFromMtl(const MtlMaterial& m, const std::string& file, std::vec
     const glm::dvec3 tf = m.Tf.value_or(glm::dvec3(1));
     const double ni = m.Ni.value_or(1.5);
     out.diffuseColor = kd;
-    out.diffuseTexture = {"", m.diffuseTexture};
-    if (m.normalMap) out.normalMap = {"", m.normalMap};
+    // The texture files by their absolute paths: the scene writer names them
+    // (relative to the file it writes), and reading them again decodes the same texels.
+    auto absolute = [](const std::filesystem::path& p) {
+        return p.empty() ? std::string() : std::filesystem::absolute(p).lexically_normal().string();
+    };
+    out.diffuseTexture = {absolute(m.diffuseTextureFile), m.diffuseTexture};
+    if (m.normalMap) out.normalMap = {absolute(m.normalMapFile), m.normalMap};
     // Ambient: Ka as ka * ambient colour (ka its largest channel); none: the
     // quick look's 0.1 of the diffuse colour.
     if (m.Ka) {
@@ -258,7 +279,9 @@ Material materialFromMtl(const MtlMaterial& m, const std::string& file, std::vec
     out.diffuse = 1;
     out.specular = 0;
     out.specularColor = ks;
-    out.shininess = m.Ns.value_or(32.0);
+    // Ns below 1 (spider.obj's 0) is 1: the scene format needs n > 0, and
+    // the shader's pow(0, 0) is undefined.
+    out.shininess = std::clamp(m.Ns.value_or(32.0), 1.0, 1e5);
     if (m.Ke) out.emission = *m.Ke;
     if (illum == 0) {  // constant colour Kd
         out.ambient = 0;
@@ -291,17 +314,16 @@ Material materialFromMtl(const MtlMaterial& m, const std::string& file, std::vec
     return out;
 }
 
-AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
-    AuthoredScene out;
-    Scene& scene = out.scene;
+std::map<std::string, Material> objMtlMaterials(const std::filesystem::path& path, std::vector<std::string>& warnings,
+                                                bool& normalMaps) {
     const std::string where = path.string();
     std::map<std::string, Material> byName;
-    bool normalMaps = false;
+    normalMaps = false;
     for (const std::filesystem::path& library : objMaterialLibraries(path)) {
         std::error_code ec;
         if (!std::filesystem::is_regular_file(library, ec)) {
-            scene.warnings.push_back(where + ": material library " + library.filename().string() +
-                                     " does not exist; its materials are white");
+            warnings.push_back(where + ": material library " + library.filename().string() +
+                               " does not exist; its materials are white");
             continue;
         }
         MtlFile mtl;
@@ -314,12 +336,21 @@ AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
             size_t message = text.find(": ", colon == std::string::npos ? 0 : colon);
             throw SceneError(library.string(), line, message == std::string::npos ? text : text.substr(message + 2));
         }
-        scene.warnings.insert(scene.warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
+        warnings.insert(warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
         for (const MtlMaterial& m : mtl.materials) {
-            byName[m.name] = materialFromMtl(m, library.string(), scene.warnings);
+            byName[m.name] = materialFromMtl(m, library.string(), warnings);
             normalMaps = normalMaps || m.normalMap;
         }
     }
+    return byName;
+}
+
+AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
+    AuthoredScene out;
+    Scene& scene = out.scene;
+    const std::string where = path.string();
+    bool normalMaps = false;
+    std::map<std::string, Material> byName = objMtlMaterials(path, scene.warnings, normalMaps);
     MeshFileData data;
     try {
         data = readMeshFile(path, MeshFileMaterials::Names, normalMaps);
@@ -335,10 +366,17 @@ AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
         else objects[i].material.ambient = 0.1;
         objects[i].shape = Mesh{};
     }
+    // Degenerate triangles are dropped, as a scene file's <file> drops them
+    // (so that its <file part> renders the same).
+    size_t skipped = 0;
     for (size_t t = 0; t < data.triangles.size(); ++t) {
         Object& o = objects[data.triangleMaterials[t]];
         Mesh& mesh = std::get<Mesh>(o.shape);
         const auto& v = data.triangles[t];
+        if (degenerate({v[0], v[1], v[2]})) {
+            ++skipped;
+            continue;
+        }
         mesh.triangles.push_back({v[0], v[1], v[2]});
         if (!data.normals.empty()) mesh.normals.push_back(data.normals[t]);
         bool textured = o.material.diffuseTexture || o.material.normalMap;
@@ -348,8 +386,21 @@ AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
                 mesh.tangents.push_back(data.tangents.empty() ? std::array<glm::dvec3, 3>{} : data.tangents[t]);
         }
     }
-    for (Object& o : objects)
-        if (!std::get<Mesh>(o.shape).triangles.empty()) scene.objects.push_back(std::move(o));
+    if (skipped > 0)
+        scene.warnings.push_back(where + ": " + std::to_string(skipped) + " degenerate triangle" +
+                                 (skipped > 1 ? "s" : "") + " skipped");
+    // Written back by the scene writer as <file part="material NAME">: a
+    // material with a name of its own (Assimp's stand-in for triangles
+    // without one has none, and a name used twice would take both).
+    const std::filesystem::path absolutePath = std::filesystem::absolute(path).lexically_normal();
+    for (Object& o : objects) {
+        Mesh& mesh = std::get<Mesh>(o.shape);
+        if (mesh.triangles.empty()) continue;
+        if (!o.name.empty() && std::count(data.materialNames.begin(), data.materialNames.end(), o.name) == 1)
+            mesh.source = Mesh::FileSource{absolutePath, glm::dvec3(0), glm::dvec3(1), glm::dvec3(0), -1,
+                                           "material " + o.name, std::nullopt};
+        scene.objects.push_back(std::move(o));
+    }
     return out;
 }
 

@@ -1,7 +1,12 @@
 #include "scene/mesh_objects.h"
 
+#include "io/gltf_file.h"
+#include "scene/authored_scene.h"
+
 #include <algorithm>
 #include <array>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -22,12 +27,18 @@ constexpr double kDegenerateTolerance = 1e-12;
 // (per axis), R = Rz Ry Rx the <rotation> in degrees: about x first, then
 // y, then z, each about the fixed world axes. Normals go through the
 // inverse transpose, R S^-1 (Phong normal transform).
+// A <matrix> M instead: world = position + M·(v, 1), normals through the
+// inverse transpose of M's linear part, the winding turned over where its
+// determinant is negative.
 struct Placement {
     glm::dvec3 offset{0};
     glm::dmat3 linear{1.0};
     glm::dmat3 normalLinear{1.0};
-    bool identity = true;  // no <scale> and no <rotation>: vertices are only offset
+    bool identity = true;  // no <scale>, <rotation> or <matrix>: vertices are only offset
+    bool flip = false;     // a mirroring <matrix>
+    glm::dvec3 position{0};                   // the object's <position>
     glm::dvec3 scale{1}, rotationDegrees{0};  // as written
+    std::optional<glm::dmat4> matrix;         // as written
 
     // Within ±1e6 of the position on every axis, as inline vertices
     // are; false when <scale> or <rotation> take a vertex further.
@@ -37,7 +48,10 @@ struct Placement {
         return std::abs(placed.x) <= kMaxMagnitude && std::abs(placed.y) <= kMaxMagnitude &&
                std::abs(placed.z) <= kMaxMagnitude;
     }
-    glm::dvec3 point(const glm::dvec3& v) const { return identity ? offset + v : offset + linear * v; }
+    // An unmoved vertex is kept as it is (adding zero would turn -0 into 0).
+    glm::dvec3 point(const glm::dvec3& v) const {
+        return identity ? (offset == glm::dvec3(0) ? v : offset + v) : offset + linear * v;
+    }
     glm::dvec3 normal(const glm::dvec3& n) const { return identity ? n : glm::normalize(normalLinear * n); }
 };
 
@@ -52,10 +66,60 @@ glm::dmat3 rotationXyz(const glm::dvec3& degrees) {
     return rz * ry * rx;
 }
 
+// <matrix>: three rows of four numbers (the affine transform's rows), or
+// four with the last 0 0 0 1; finite, within ±1e6, the 3×3 part invertible.
+glm::dmat4 readMatrix(const Diagnostics& diag, const XMLElement* e) {
+    std::string text = valueText(diag, e);
+    std::vector<double> values;
+    const char* at = text.data();
+    const char* end = text.data() + text.size();
+    while (at < end) {
+        if (std::isspace((unsigned char)*at)) {
+            ++at;
+            continue;
+        }
+        const char* start = at + (*at == '+' ? 1 : 0);
+        double v = 0;
+        auto [next, ec] = std::from_chars(start, end, v);
+        if (ec != std::errc() || (next < end && !std::isspace((unsigned char)*next)))
+            diag.fail(e, "<matrix> holds numbers separated by spaces, got \"" +
+                             std::string(at, std::find_if(at, end, [](char c) { return std::isspace((unsigned char)c); })) +
+                             "\"");
+        if (!(std::abs(v) <= kMaxMagnitude)) diag.fail(e, "<matrix> has a number beyond ±1e6 or not finite");
+        values.push_back(v);
+        at = next;
+    }
+    if (values.size() != 12 && values.size() != 16)
+        diag.fail(e, "<matrix> has " + std::to_string(values.size()) +
+                         " numbers; expected 12 (three rows of four) or 16 (the fourth row 0 0 0 1)");
+    if (values.size() == 16 && (values[12] != 0 || values[13] != 0 || values[14] != 0 || values[15] != 1))
+        diag.fail(e, "<matrix>'s fourth row must be 0 0 0 1 (an affine transform)");
+    glm::dmat4 m(1.0);
+    for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 4; ++col) m[col][row] = values[size_t(row * 4 + col)];
+    double det = glm::determinant(glm::dmat3(m));
+    if (!(std::abs(det) > 1e-300)) diag.fail(e, "<matrix> is singular: its 3×3 part has determinant 0");
+    return m;
+}
+
 // <scale> is one number for all axes, or a vector (x, y, z); each > 0.
 Placement readPlacement(const Diagnostics& diag, ElementReader& properties, const glm::dvec3& position) {
     Placement placement;
     placement.offset = position;
+    placement.position = position;
+    if (const XMLElement* e = properties.optional("matrix")) {
+        for (const char* other : {"scale", "rotation"})
+            if (const XMLElement* o = properties.optional(other))
+                diag.fail(laterOf(e, o), "<properties> has both <matrix> and " + tag(other) + "; a mesh takes one");
+        glm::dmat4 m = readMatrix(diag, e);
+        placement.matrix = m;
+        placement.identity = false;
+        placement.linear = glm::dmat3(m);
+        placement.normalLinear = glm::transpose(glm::inverse(placement.linear));
+        placement.flip = glm::determinant(placement.linear) < 0;
+        placement.offset = position + glm::dvec3(m[3]);
+        return placement;
+    }
     glm::dvec3 scale(1.0), rotation(0.0);
     if (const XMLElement* e = properties.optional("scale")) {
         scale = e->FirstAttribute() || e->FirstChildElement() ? vector(diag, e, kPositive)
@@ -131,6 +195,11 @@ Mesh readMesh(const Diagnostics& diag, const XMLElement* e, const Placement& pla
             diag.warn(polygon, "degenerate polygon skipped");
             continue;
         }
+        if (placement.flip) {
+            std::swap(t.v1, t.v2);
+            std::swap(uv[1], uv[2]);
+            std::swap(normal[1], normal[2]);
+        }
         mesh.triangles.push_back(t);
         if (!uvs.empty()) mesh.uvs.push_back(uv);
         if (!normals.empty()) mesh.normals.push_back(normal);
@@ -139,56 +208,213 @@ Mesh readMesh(const Diagnostics& diag, const XMLElement* e, const Placement& pla
     return mesh;
 }
 
+// "mesh M primitive P" of a glTF file: M the mesh's index or name, P the
+// primitive's index.
+const GltfPrimitive& gltfPart(const Diagnostics& diag, const XMLElement* e, const GltfFile& file,
+                              const std::string& part, const std::string& name) {
+    const std::string form = "; expected part=\"mesh M primitive P\" (M the mesh's index or name, P the primitive's index)";
+    size_t at = part.rfind(" primitive ");
+    if (part.rfind("mesh ", 0) != 0 || at == std::string::npos || at < 5)
+        diag.fail(e, name + ": part \"" + part + "\" names no glTF primitive" + form);
+    auto index = [](const std::string& text) -> std::optional<size_t> {
+        if (text.empty() || text.size() > 9 || !std::all_of(text.begin(), text.end(), [](unsigned char c) { return std::isdigit(c); }))
+            return std::nullopt;
+        return size_t(std::stoul(text));
+    };
+    std::string meshText = part.substr(5, at - 5), primitiveText = part.substr(at + 11);
+    std::optional<size_t> mesh = index(meshText);
+    if (!mesh)
+        for (size_t m = 0; m < file.meshes.size() && !mesh; ++m)
+            if (file.meshes[m].name == meshText) mesh = m;
+    if (!mesh || *mesh >= file.meshes.size())
+        diag.fail(e, name + ": part \"" + part + "\": the file has no mesh " + meshText + " (it has " +
+                         std::to_string(file.meshes.size()) + " mesh" + (file.meshes.size() == 1 ? "" : "es") +
+                         ", 0 to " + std::to_string(int(file.meshes.size()) - 1) + ")");
+    const GltfMesh& m = file.meshes[*mesh];
+    std::optional<size_t> primitive = index(primitiveText);
+    if (!primitive) diag.fail(e, name + ": part \"" + part + "\": primitive " + primitiveText + " is not an index" + form);
+    if (*primitive >= m.primitives.size())
+        diag.fail(e, name + ": part \"" + part + "\": mesh " + meshText + " has " + std::to_string(m.primitives.size()) +
+                         " primitive" + (m.primitives.size() == 1 ? "" : "s"));
+    if (m.primitives[*primitive].indices.empty())
+        diag.fail(e, name + ": part \"" + part + "\" has no triangles");
+    return m.primitives[*primitive];
+}
+
+// A glTF primitive, built as the glTF scene builds it (authored_scene.h),
+// so that a converted scene renders bit for bit as the file: world = the
+// <matrix> (else the <scale> and <rotation>), then moved by <position>.
+Mesh readGltfPart(const Diagnostics& diag, const XMLElement* e, const Placement& placement,
+                  const std::filesystem::path& path, const std::string& part, const std::string& name,
+                  FileMaterials& fileMaterials, ModelFiles& files) {
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec)) diag.fail(e, name + " does not exist");
+    std::shared_ptr<const GltfFile>& file = files.gltf[std::filesystem::absolute(path).lexically_normal()];
+    if (!file) {
+        try {
+            file = std::make_shared<const GltfFile>(readGltfFile(path));
+        } catch (const GltfFileError& error) {
+            std::string text = error.what(), prefix = path.string() + ": ";
+            diag.fail(e, name + ": " + (text.rfind(prefix, 0) == 0 ? text.substr(prefix.size()) : text));
+        }
+    }
+    const GltfPrimitive& primitive = gltfPart(diag, e, *file, part, name);
+    const GltfMaterial* material =
+        primitive.material >= 0 ? &file->materials[size_t(primitive.material)] : nullptr;
+    const XMLElement* properties = e->Parent()->ToElement();
+    bool ownNormalMap = properties->FirstChildElement("normal_map") != nullptr;
+    bool fileTextures = fileMaterials.wanted && material && (material->baseColorTexture || material->normalTexture);
+    bool normalMapped = ownNormalMap || (fileMaterials.wanted && material && material->normalTexture);
+    bool textured = fileTextures || ownNormalMap || properties->FirstChildElement("diffuse_texture");
+    glm::dmat4 world = placement.matrix ? *placement.matrix : glm::dmat4(placement.linear);
+    Mesh mesh = meshFromGltfPrimitive(primitive, world, textured, normalMapped);
+    for (Triangle& t : mesh.triangles) {
+        if (placement.position != glm::dvec3(0))
+            for (glm::dvec3* v : {&t.v0, &t.v1, &t.v2}) *v += placement.position;
+        for (const glm::dvec3& v : {t.v0, t.v1, t.v2})
+            if (!(std::abs(v.x) <= kMaxMagnitude && std::abs(v.y) <= kMaxMagnitude && std::abs(v.z) <= kMaxMagnitude))
+                diag.fail(e, name + ": part \"" + part + "\" is placed beyond ±1e6 or not finite");
+    }
+    if (fileMaterials.wanted) {  // the primitive's own base colour, texture and normal texture
+        MeshFileMaterial own;
+        if (material) {
+            own.baseColour = glm::dvec3(material->baseColorFactor);
+            own.baseColourTexture = material->baseColorTexture;
+            own.normalTexture = material->normalTexture;
+        }
+        fileMaterials.materials = {own};
+        fileMaterials.triangleMaterials.assign(mesh.triangles.size(), 0);
+    }
+    mesh.source = Mesh::FileSource{std::filesystem::absolute(path).lexically_normal(), placement.position,
+                                   placement.scale, placement.rotationDegrees, -1, part, placement.matrix};
+    return mesh;
+}
+
 // A model file (host/io/mesh_file.h), its path relative to the scene
-// file's folder. Degenerate triangles are dropped with one warning.
+// file's folder. Degenerate triangles are dropped with one warning. With
+// part="material NAME" only the triangles of that material of the file
+// (a glTF file's part="mesh M primitive P": readGltfPart).
 Mesh readMeshFile(const Diagnostics& diag, const XMLElement* e, const Placement& placement,
-                  const std::filesystem::path& sceneFolder, FileMaterials& fileMaterials) {
-    std::string written = valueText(diag, e);
+                  const std::filesystem::path& sceneFolder, FileMaterials& fileMaterials, ModelFiles& files) {
+    std::string written = valueText(diag, e, "part");
     if (written.empty()) diag.fail(e, "<file> is empty; expected the path of a model file");
     std::filesystem::path path(written);
     if (path.is_relative()) path = sceneFolder / path;
     std::string name = "mesh file \"" + written + "\"";
-    MeshFileData data;
+    const char* partAttribute = e->Attribute("part");
+    const std::string part = partAttribute ? trimmed(partAttribute) : "";
+    if (partAttribute && part.empty()) diag.fail(e, "<file>'s part is empty; leave it out for the whole file");
+    if (!part.empty() && isGltfFile(path))
+        return readGltfPart(diag, e, placement, path, part, name, fileMaterials, files);
+
+    // An OBJ file with MTL libraries whose materials apply: mapped by
+    // whitted's MTL reader, as `whitted render FILE.obj` maps them (Assimp
+    // 5.2 keeps only illum 0-2 and refuses Windows texture paths).
+    std::map<std::string, Material> mtl;
+    bool mtlNormalMaps = false;
+    const bool withMtl = fileMaterials.wanted && !objMaterialLibraries(path).empty();
+    if (withMtl) {
+        std::vector<std::string> warnings;
+        mtl = objMtlMaterials(path, warnings, mtlNormalMaps);
+        for (const std::string& w : warnings) diag.warn(e, w);
+    }
+    // Tangents where a normal map may apply: the scene's or the file's.
+    const XMLElement* properties = e->Parent()->ToElement();
+    const bool tangents = withMtl ? mtlNormalMaps || properties->FirstChildElement("normal_map")
+                                  : fileMaterials.wanted || properties->FirstChildElement("normal_map");
+    const MeshFileMaterials mode = withMtl || (!part.empty() && !fileMaterials.wanted) ? MeshFileMaterials::Names
+                                   : fileMaterials.wanted                             ? MeshFileMaterials::Read
+                                                                                      : MeshFileMaterials::Ignore;
+    std::shared_ptr<const MeshFileData> read;
     try {
-        // Tangents where a normal map may apply: the scene's or the file's.
-        bool tangents = fileMaterials.wanted || e->Parent()->FirstChildElement("normal_map");
-        data = whitted::readMeshFile(path, fileMaterials.wanted ? MeshFileMaterials::Read : MeshFileMaterials::Ignore,
-                                     tangents);
+        if (part.empty()) {
+            read = std::make_shared<const MeshFileData>(whitted::readMeshFile(path, mode, tangents));
+        } else {  // one file, many parts: read once
+            std::shared_ptr<const MeshFileData>& cached =
+                files.meshes[{std::filesystem::absolute(path).lexically_normal(), mode, tangents}];
+            if (!cached) cached = std::make_shared<const MeshFileData>(whitted::readMeshFile(path, mode, tangents));
+            read = cached;
+        }
     } catch (const MeshFileError& error) {
         diag.fail(e, name + " " + error.what());
     }
+    const MeshFileData& data = *read;
+
+    // part="material NAME": the triangles of the one material of that name.
+    std::optional<uint32_t> partMaterial;
+    if (!part.empty()) {
+        if (part.rfind("material ", 0) != 0)
+            diag.fail(e, name + ": part \"" + part +
+                             "\" names no part; expected part=\"material NAME\" (glTF files: \"mesh M primitive P\")");
+        std::string wanted = trimmed(part.substr(9));
+        std::string names;
+        for (uint32_t k = 0; k < data.materialNames.size(); ++k) {
+            if (data.materialNames[k].empty()) continue;
+            if (data.materialNames[k] == wanted) {
+                if (partMaterial) diag.fail(e, name + ": part \"" + part + "\": two materials of the file have that name");
+                partMaterial = k;
+            }
+            names += (names.empty() ? "\"" : ", \"") + data.materialNames[k] + "\"";
+        }
+        if (!partMaterial)
+            diag.fail(e, name + ": part \"" + part + "\": the file has no material \"" + wanted + "\"" +
+                             (names.empty() ? std::string(" (it has no named materials)") : " (it has " + names + ")"));
+    }
+    // A part keeps texture coordinates (and tangents) only where a texture
+    // applies, as the OBJ/MTL scene does; the whole file always.
+    const bool keepUvs = part.empty() || fileMaterials.wanted || tangents ||
+                         properties->FirstChildElement("diffuse_texture");
 
     Mesh mesh;
     size_t skipped = 0;
     for (size_t i = 0; i < data.triangles.size(); ++i) {
+        if (partMaterial && data.triangleMaterials[i] != *partMaterial) continue;
         const auto& v = data.triangles[i];
         for (const glm::dvec3& p : v)
             if (!placement.inRange(p)) diag.fail(e, name + ": " + outOfRange(p));
-        Triangle t{placement.point(v[0]), placement.point(v[1]), placement.point(v[2])};
+        std::array<size_t, 3> order{0, 1, 2};
+        if (placement.flip) order = {0, 2, 1};
+        Triangle t{placement.point(v[order[0]]), placement.point(v[order[1]]), placement.point(v[order[2]])};
         if (degenerate(t)) {
             ++skipped;
             continue;
         }
         mesh.triangles.push_back(t);
-        if (!data.uvs.empty()) mesh.uvs.push_back(data.uvs[i]);
-        if (!data.tangents.empty()) {
+        const bool uvs = keepUvs && !data.uvs.empty();
+        if (uvs) mesh.uvs.push_back({data.uvs[i][order[0]], data.uvs[i][order[1]], data.uvs[i][order[2]]});
+        if (!data.tangents.empty() && uvs) {
             const auto& t = data.tangents[i];
             auto place = [&](const glm::dvec3& v) {  // directions go through the linear part
-                glm::dvec3 w = placement.identity ? v : placement.linear * v;
+                if (placement.identity) return v;    // unit already (or zero)
+                glm::dvec3 w = placement.linear * v;
                 return glm::length(w) > 0 ? glm::normalize(w) : w;
             };
-            mesh.tangents.push_back({place(t[0]), place(t[1]), place(t[2])});
+            mesh.tangents.push_back({place(t[order[0]]), place(t[order[1]]), place(t[order[2]])});
+        } else if (partMaterial && tangents && uvs) {
+            mesh.tangents.push_back({});  // as the OBJ/MTL scene: none computed
         }
-        if (!data.triangleMaterials.empty()) fileMaterials.triangleMaterials.push_back(data.triangleMaterials[i]);
+        if (!data.triangleMaterials.empty() && fileMaterials.wanted)
+            fileMaterials.triangleMaterials.push_back(data.triangleMaterials[i]);
         if (!data.normals.empty()) {
             const auto& n = data.normals[i];
-            mesh.normals.push_back({placement.normal(n[0]), placement.normal(n[1]), placement.normal(n[2])});
+            mesh.normals.push_back(
+                {placement.normal(n[order[0]]), placement.normal(n[order[1]]), placement.normal(n[order[2]])});
         }
     }
     if (mesh.triangles.empty()) diag.fail(e, "every triangle in " + name + " is degenerate");
-    mesh.source = Mesh::FileSource{std::filesystem::absolute(path).lexically_normal(), placement.offset,
-                                   placement.scale, placement.rotationDegrees};
-    if (!data.triangleMaterials.empty()) fileMaterials.materials = std::move(data.materials);
+    mesh.source = Mesh::FileSource{std::filesystem::absolute(path).lexically_normal(), placement.position,
+                                   placement.scale, placement.rotationDegrees, -1, part, placement.matrix};
+    if (fileMaterials.wanted && !data.triangleMaterials.empty()) {
+        fileMaterials.materials = data.materials;
+        fileMaterials.names = data.materialNames;
+        if (withMtl)
+            for (const std::string& n : data.materialNames) {
+                auto it = mtl.find(n);
+                Material m;
+                m.ambient = 0.1;  // a material the libraries lack: white, as the OBJ/MTL scene has it
+                fileMaterials.authored.push_back(it != mtl.end() ? it->second : m);
+            }
+    }
     if (skipped > 0)
         diag.warn(e, name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
                          " skipped");
@@ -213,7 +439,7 @@ Triangle readTriangle(const Diagnostics& diag, const XMLElement* parent, const s
 // A mesh has either inline <polygons> or a model <file>.
 Mesh readMeshObject(const Diagnostics& diag, ElementReader& object, ElementReader& properties,
                     const glm::dvec3& position, const std::filesystem::path& sceneFolder,
-                    FileMaterials& fileMaterials) {
+                    FileMaterials& fileMaterials, ModelFiles& modelFiles) {
     const XMLElement* polygons = properties.optional("polygons");
     const XMLElement* file = properties.optional("file");
     if (polygons && file)
@@ -222,7 +448,7 @@ Mesh readMeshObject(const Diagnostics& diag, ElementReader& object, ElementReade
         diag.fail(object.element(), "<object> is missing <polygons> or <file> (required for type mesh)");
     Placement placement = readPlacement(diag, properties, position);
     return polygons ? readMesh(diag, polygons, placement)
-                    : readMeshFile(diag, file, placement, sceneFolder, fileMaterials);
+                    : readMeshFile(diag, file, placement, sceneFolder, fileMaterials, modelFiles);
 }
 
 std::vector<Object> splitByFileMaterial(Object whole, const FileMaterials& fileMaterials) {
@@ -244,6 +470,13 @@ std::vector<Object> splitByFileMaterial(Object whole, const FileMaterials& fileM
             if (!mesh.tangents.empty()) piece.tangents.push_back(mesh.tangents[i]);
         }
         if (piece.triangles.empty()) continue;
+        if (!fileMaterials.authored.empty()) {  // the file's MTL material, whole
+            part.material = fileMaterials.authored[k];
+            if (part.name.empty()) part.name = fileMaterials.names[k];
+            if (piece.uvs.empty()) part.material.diffuseTexture = {}, part.material.normalMap = {};
+            if (part.material.normalMap && piece.tangents.empty())
+                piece.tangents.assign(piece.triangles.size(), std::array<glm::dvec3, 3>{});
+        }
         if (materials[k].baseColourTexture && !piece.uvs.empty())
             part.material.diffuseTexture = {"", materials[k].baseColourTexture};
         if (materials[k].normalTexture && !piece.uvs.empty() && !part.material.normalMap)

@@ -11,6 +11,9 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
+#include <memory>
+#include <tuple>
 #include <vector>
 
 namespace whitted {
@@ -27,10 +30,24 @@ Triangle readTriangle(const xml::Diagnostics& diag, const xml::XMLElement* paren
 // A model file's own materials while its object is read: `wanted` (set by
 // the caller) when the object gives no colour of its own; the reader then
 // fills `materials` and, for each triangle it keeps, its index into them.
+// An OBJ file with MTL libraries gives whole materials instead (`authored`,
+// one per material of the file, mapped as the OBJ/MTL scene maps them), and
+// `names`, its materials' names.
 struct FileMaterials {
     bool wanted = false;
     std::vector<MeshFileMaterial> materials;
     std::vector<uint32_t> triangleMaterials;
+    std::vector<Material> authored;
+    std::vector<std::string> names;
+};
+
+struct GltfFile;  // io/gltf_file.h
+
+// The model files one scene has read, so that the <file part="..."> objects
+// of one file (a converted glTF or OBJ: one object per part) read it once.
+struct ModelFiles {
+    std::map<std::filesystem::path, std::shared_ptr<const GltfFile>> gltf;
+    std::map<std::tuple<std::filesystem::path, MeshFileMaterials, bool>, std::shared_ptr<const MeshFileData>> meshes;
 };
 
 // The mesh of an <object> (whose readers `object` and `properties` are):
@@ -38,7 +55,7 @@ struct FileMaterials {
 // polygons and triangles are dropped with a warning.
 Mesh readMeshObject(const xml::Diagnostics& diag, xml::ElementReader& object, xml::ElementReader& properties,
                     const glm::dvec3& position, const std::filesystem::path& sceneFolder,
-                    FileMaterials& fileMaterials);
+                    FileMaterials& fileMaterials, ModelFiles& modelFiles);
 
 // A model file's triangles grouped by their material, each group an
 // object with the scene's material but the file's base colour and

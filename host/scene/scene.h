@@ -155,6 +155,12 @@ struct Mesh {
         // split into one object per material: part k of them, the writer
         // writing the <file> once, for part 0, without a colour. -1: whole.
         int part = -1;
+        // <file part="...">: the part of the file the object takes (a glTF
+        // mesh primitive "mesh M primitive P", or "material NAME" of any
+        // other file), empty for the whole file; and its <matrix>, which
+        // places the part instead of <scale> and <rotation>.
+        std::string partName;
+        std::optional<glm::dmat4> matrix;
     };
     std::optional<FileSource> source;
     std::vector<std::array<glm::dvec2, 3>> uvs;

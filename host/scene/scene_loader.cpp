@@ -92,6 +92,7 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"file"},
                                                {"scale"},
                                                {"rotation"},
+                                               {"matrix"},
                                                {"operation"}};
 
 // ---- The loader --------------------------------------------------------------------
@@ -541,7 +542,8 @@ private:
                 diag_.fail(object.element(), "<object> of type triangle is degenerate: its vertices are collinear");
             return t;
         }
-        return readMeshObject(diag_, object, properties, position, scene_.sourcePath.parent_path(), fileMaterials_);
+        return readMeshObject(diag_, object, properties, position, scene_.sourcePath.parent_path(), fileMaterials_,
+                              modelFiles_);
     }
 
     Diagnostics diag_;
@@ -550,6 +552,7 @@ private:
     // The object being read: whether a model file's materials apply, and
     // those read with each kept triangle's index into them.
     FileMaterials fileMaterials_;
+    ModelFiles modelFiles_;  // each model file read once, however many <file part> take from it
 };
 
 // tinyxml2's ErrorStr() is "Error=NAME ErrorID=N (0xN) Line number=L: detail"

@@ -66,7 +66,8 @@ struct FilePlaces {
 
 std::string escapedXml(const std::string& text) {
     std::string escaped;
-    for (char c : text) escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : std::string(1, c);
+    for (char c : text)
+        escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '"' ? "&quot;" : std::string(1, c);
     return escaped;
 }
 
@@ -87,7 +88,9 @@ std::string textureText(const TextureRef& texture, const FilePlaces& places) {
     return fileText(std::filesystem::absolute(path).lexically_normal(), places);
 }
 
-void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& places) {
+// `diffuseTexture`: false for a model file whose own materials apply (its
+// textures come back with them, and a <diffuse_texture> would stop them applying).
+void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& places, bool diffuseTexture = true) {
     x.value("refraction_coef", m.ior);
     x.value("transmission_coef", m.transmission);
     x.value("specular_coef", m.specular);
@@ -108,7 +111,7 @@ void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& pla
     // Texture files, relative to the written file's folder. (A model file's
     // own texture has no path to write: the file is written again as its
     // <file>, without a colour, and brings it back.)
-    if (m.diffuseTexture && !m.diffuseTexture.written.empty())
+    if (diffuseTexture && m.diffuseTexture && !m.diffuseTexture.written.empty())
         x.value("diffuse_texture", textureText(m.diffuseTexture, places));
     if (m.normalMap && !m.normalMap.written.empty()) {
         x.value("normal_map", textureText(m.normalMap, places));
@@ -194,7 +197,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
     x.open("properties");
     static const char* kTypes[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh", "csg"};
     x.value("type", kTypes[shape.index()]);
-    if (writeMaterial) writeMaterialProperties(x, m, places);
+    if (writeMaterial) writeMaterialProperties(x, m, places, !fileMaterials);
     std::visit(
         [&](const auto& s) {
             using T = std::decay_t<decltype(s)>;
@@ -215,7 +218,18 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                 static const char* kOperations[] = {"union", "intersection", "difference"};
                 x.value("operation", kOperations[int(s.operation)]);
             } else if (source) {
-                x.value("file", fileText(source->path, places));
+                if (source->partName.empty())
+                    x.value("file", fileText(source->path, places));
+                else
+                    x.line("<file part=\"" + escapedXml(source->partName) + "\">" + fileText(source->path, places) +
+                           "</file>");
+                if (source->matrix) {  // three rows of four
+                    std::string rows;
+                    for (int row = 0; row < 3; ++row)
+                        for (int col = 0; col < 4; ++col)
+                            rows += (rows.empty() ? "" : col == 0 ? "  " : " ") + number((*source->matrix)[col][row]);
+                    x.value("matrix", rows);
+                }
                 if (source->scale != glm::dvec3(1)) x.vector("scale", source->scale);
                 if (source->rotationDegrees != glm::dvec3(0)) x.vector("rotation", source->rotationDegrees);
             } else {

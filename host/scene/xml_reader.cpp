@@ -117,10 +117,12 @@ void Diagnostics::warn(const XMLNode* at, const std::string& message) const {
     warnings_->push_back(located(file_, at ? at->GetLineNum() : 0, message));
 }
 
-void Diagnostics::refuseAttributes(const XMLElement* e) const {
-    if (const tinyxml2::XMLAttribute* a = e->FirstAttribute())
-        fail(e, "unknown attribute \"" + std::string(a->Name()) + "\" on " + tag(e->Name()) + "; " + tag(e->Name()) +
-                    " takes no attributes");
+void Diagnostics::refuseAttributes(const XMLElement* e, std::string_view allowed) const {
+    for (const tinyxml2::XMLAttribute* a = e->FirstAttribute(); a; a = a->Next())
+        if (allowed.empty() || a->Name() != allowed)
+            fail(e, "unknown attribute \"" + std::string(a->Name()) + "\" on " + tag(e->Name()) + "; " +
+                        tag(e->Name()) +
+                        (allowed.empty() ? " takes no attributes" : " takes only " + std::string(allowed)));
 }
 
 void Diagnostics::refuseText(const XMLText* text, const XMLElement* parent) const {
@@ -204,8 +206,8 @@ const XMLElement* laterOf(const XMLElement* a, const XMLElement* b) {
 
 // ---- Values ----
 
-std::string valueText(const Diagnostics& diag, const XMLElement* e) {
-    diag.refuseAttributes(e);
+std::string valueText(const Diagnostics& diag, const XMLElement* e, std::string_view attribute) {
+    diag.refuseAttributes(e, attribute);
     std::string text;
     for (const XMLNode* node = e->FirstChild(); node; node = node->NextSibling()) {
         if (const XMLElement* child = node->ToElement())

@@ -73,7 +73,7 @@ public:
 
     // Elements of the format carry no attributes except the compact vector
     // and colour form, which is checked on its own.
-    void refuseAttributes(const XMLElement* e) const;
+    void refuseAttributes(const XMLElement* e, std::string_view allowed = {}) const;
     void refuseText(const XMLText* text, const XMLElement* parent) const;
 
 private:
@@ -134,7 +134,8 @@ const XMLElement* laterOf(const XMLElement* a, const XMLElement* b);
 
 // The text of a value element such as <radius>, trimmed and joined over
 // its text nodes (a comment may sit inside); elements inside are refused.
-std::string valueText(const Diagnostics& diag, const XMLElement* e);
+// `attribute`, when given, is the one attribute the element may carry.
+std::string valueText(const Diagnostics& diag, const XMLElement* e, std::string_view attribute = {});
 
 double number(const Diagnostics& diag, const XMLElement* e, Range range = kAnyValue);
 int integer(const Diagnostics& diag, const XMLElement* e, int lo, int hi);

@@ -389,7 +389,9 @@ void ViewApp::saveImages() {
                             .sharedWith = {},
                             .result = &result,
                             .files = files,
-                            .masks = &scene_};
+                            .masks = &scene_,
+                            .exposure = options_.exposure,
+                            .camera = options_.camera};
         writeTextFile(staging / "render.json", renderRecordJson(record));
     });
     overlay_.status = "saved " + folder.string();
