@@ -216,7 +216,7 @@ struct Material {
     float pad4 WHITTED_ZERO;
     uint diffuseTexture WHITTED_ZERO;  // index into the kBindingTextures array, or kNoTexture
     uint normalMap WHITTED_ZERO;       // likewise
-    uint pad5 WHITTED_ZERO;
+    uint emissionTexture WHITTED_ZERO; // likewise: multiplies emission
     uint pad6 WHITTED_ZERO;
     float textureScale WHITTED_ZERO;   // planes: world units per repeat
     float normalStrength WHITTED_ZERO;

@@ -182,7 +182,8 @@ void rayTreeShadowRay(uint light, Ray ray, float dist, vec3 visibility, vec3 dif
 
 // The current ray hit `hit` and was shaded: its hit, the weight that scaled
 // its local terms and its contribution, as traceSamples adds it to the pixel.
-void rayTreeShaded(Hit hit, Primitive prim, bool frontFace, vec3 p, vec3 ns, vec3 weight, LocalShading local) {
+void rayTreeShaded(Hit hit, Primitive prim, bool frontFace, vec3 p, vec3 ns, vec3 weight, LocalShading local,
+                   vec3 emission) {
     if (gRayTreeCurrent == kNoObject) return;
     rayTreeCloseShadowRay(local.diffuse, local.specular);
     uint i = gRayTreeCurrent;
@@ -200,7 +201,7 @@ void rayTreeShaded(Hit hit, Primitive prim, bool frontFace, vec3 p, vec3 ns, vec
     // Emission: traceSamples adds it to local.ambient (it counts in the
     // ambient component), so `ambient` includes it and `emission` says how
     // much of it is emission.
-    rayTree.rays[i].emission = materials[prim.material].emission;
+    rayTree.rays[i].emission = emission;
     rayTree.rays[i].contribution = weight * (local.ambient + local.diffuse + local.specular);
 }
 

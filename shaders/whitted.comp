@@ -145,17 +145,19 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // hit.t through it, so all that comes back along it is attenuated.
         if (!frontFace) pending.weight *= exp(-m.absorption * hit.t);
         m.diffuse = pigment(m.diffuse, m.checkerColor, m.checkerSize, m.checkerOrigin, p);
-        // The cone's footprint here filters the diffuse texture and the
-        // normal map; a mapped normal is kept facing the viewer as
-        // shadingNormal() keeps an interpolated one.
+        // The cone's footprint here filters the diffuse texture, the
+        // emission texture and the normal map; a mapped normal is kept facing
+        // the viewer as shadingNormal() keeps an interpolated one.
         float coneWidth = pending.cone.x + pending.cone.y * hit.t;
 #ifndef WHITTED_NO_TEXTURES  // the build for scenes without textures (host/render/device_policy.cpp)
-        uvec2 slots = uvec2(m.diffuseTexture, m.normalMap);
-        if (slots.x != kNoTexture || slots.y != kNoTexture) {
+        uvec3 slots = uvec3(m.diffuseTexture, m.normalMap, m.emissionTexture);
+        if (slots.x != kNoTexture || slots.y != kNoTexture || slots.z != kNoTexture) {
             SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, m.textureScale);
             float cosine = abs(dot(ray.dir, n));
             if (slots.x != kNoTexture)
                 m.diffuse *= textureColor(slots.x, s.uv, rayConeLod(slots.x, s, coneWidth, cosine));
+            if (slots.z != kNoTexture)
+                m.emission *= textureColor(slots.z, s.uv, rayConeLod(slots.z, s, coneWidth, cosine));
             if (slots.y != kNoTexture) {
                 ns = normalMapped(slots.y, m.normalStrength, s, ns, rayConeLod(slots.y, s, coneWidth, cosine));
                 float facing = dot(ns, -ray.dir);
@@ -185,7 +187,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             sampleColor += light;
         }
 #ifdef WHITTED_RAY_TREE
-        rayTreeShaded(hit, prim, frontFace, p, ns, pending.weight, local);
+        rayTreeShaded(hit, prim, frontFace, p, ns, pending.weight, local, m.emission);
 #endif
         if (pending.depth >= maxDepth) continue;
         // Secondary rays: refraction by Snell's law with the object's IOR

@@ -16,6 +16,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <tuple>
@@ -119,6 +120,30 @@ TEST(AuthoredGltf, CameraThroughNodeHierarchy) {
     ASSERT_GT(c.hits, 10);
     EXPECT_NEAR(c.x, (ndcX + 1) / 2 * 160, 0.75);
     EXPECT_NEAR(c.y, (1 - ndcY) / 2 * 120, 0.75);
+}
+
+// ClearCoatTest.gltf (assimp-testmodels) writes its labels as emissive
+// textures: each object of a material with an emissiveTexture carries it as
+// its emission texture, with the material's emissiveFactor as emission.
+TEST(AuthoredGltf, RealFileEmissiveTexturesAreMapped) {
+    fs::path model = assimpTestModel("glTF2/ClearCoat-glTF/ClearCoatTest.gltf");
+    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
+    Json j = Json::parse(std::ifstream(model));
+    std::vector<glm::dvec3> factors;
+    for (const Json& m : j["materials"])
+        if (m.contains("emissiveTexture")) {
+            std::vector<double> f = m.value("emissiveFactor", std::vector<double>{0, 0, 0});
+            factors.push_back({f[0], f[1], f[2]});
+        }
+    ASSERT_FALSE(factors.empty());
+    Scene scene = loadSceneOrModel(model);
+    int textured = 0;
+    for (const Object& o : scene.objects)
+        if (o.material.emissionTexture) {
+            ++textured;
+            EXPECT_NE(std::find(factors.begin(), factors.end(), o.material.emission), factors.end()) << o.name;
+        }
+    EXPECT_GT(textured, 0);
 }
 
 // Cameras.gltf (assimp-testmodels): its perspective camera by default, its
@@ -275,6 +300,17 @@ TEST(AuthoredGltf, MaterialAnchorCases) {
     Material thin = materialFromGltf(v);
     EXPECT_EQ(thin.ior, 1.0);
     EXPECT_EQ(thin.absorption, glm::dvec3(0));
+
+    // Emission: emissiveFactor times emissiveStrength, times the
+    // emissiveTexture (the emission texture).
+    GltfMaterial e = gltfMaterial(b, 0, 1);
+    e.emissiveFactor = {0.5, 0.25, 1.0};
+    e.emissiveStrength = 2;
+    e.emissiveTexture = std::make_shared<TextureData>();
+    Material emissive = materialFromGltf(e);
+    EXPECT_EQ(emissive.emission, glm::dvec3(1.0, 0.5, 2.0));
+    EXPECT_EQ(emissive.emissionTexture.data, e.emissiveTexture);
+    EXPECT_FALSE(lambert.emissionTexture);
 }
 
 // Volume attenuation rendered: an orthographic view through a slab of

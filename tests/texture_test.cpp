@@ -114,6 +114,44 @@ TEST(TextureRender, PlanarMappingPutsTheImageUpright) {
                 << "pixel " << e.x << "," << e.y << " channel " << c;
 }
 
+// <emission_texture> multiplies <emission> (glTF's emissiveFactor times
+// emissiveTexture): an unlit plane (no ambient light, no lights, kd = 0)
+// shows emission times each quadrant's colour, in its place; the scene
+// writer keeps the element.
+TEST(TextureRender, EmissionTextureMultipliesEmission) {
+    fs::path dir = textureDir();
+    writeQuadrantTexture(dir / "quadrants.png");
+    const std::string xml = R"(<scene>
+  <camera><position x="0" y="0" z="2"/><window_position x="0" y="0" z="1"/><window_height>0.5</window_height>
+    <width>64</width><height>64</height></camera>
+  <ambient_light r="0" g="0" b="0"/>
+  <lights/>
+  <objects>
+    <object><position x="-0.5" y="-0.5" z="0"/><diffuse_color r="1" g="1" b="1"/>
+      <properties><type>plane</type><normal x="0" y="0" z="1"/><emission r="0.5" g="1" b="0.75"/>
+        <emission_texture>quadrants.png</emission_texture><texture_scale>1</texture_scale>
+        <ambiente_coef>0</ambiente_coef><diffuse_coef>0</diffuse_coef><specular_coef>0</specular_coef></properties></object>
+  </objects>
+</scene>)";
+    Scene scene = loadSceneFromString(xml, dir / "emission_wall.xml");
+    const glm::vec3 emission(0.5f, 1.0f, 0.75f);
+    for (const Scene& s : {scene, loadSceneFromString(sceneXml(scene), dir / "emission_wall_written.xml")}) {
+        ASSERT_TRUE(s.objects[0].material.emissionTexture);
+        EXPECT_EQ(s.objects[0].material.emissionTexture.written, "quadrants.png");
+        RenderResult r = renderScene(s, {.samplesPerPixel = 1, .maxDepth = 0, .auxiliary = false});
+        struct Expected {
+            int x, y;
+            glm::vec3 colour;
+        };
+        for (const Expected& e : {Expected{16, 16, kQuadrantTopLeft}, Expected{48, 16, kQuadrantTopRight},
+                                  Expected{16, 48, kQuadrantBottomLeft}, Expected{48, 48, kQuadrantBottomRight}})
+            for (int c = 0; c < 3; ++c)
+                // 8-bit sRGB quantisation of the file, as above, times emission.
+                EXPECT_NEAR(pixel(r, gpu::kAovColor, e.x, e.y)[c], emission[c] * e.colour[c], 0.004f)
+                    << "pixel " << e.x << "," << e.y << " channel " << c;
+    }
+}
+
 // A texture multiplies Cd everywhere Cd is used: a white object with a
 // constant texture of colour c renders exactly as the same object with
 // diffuse_color c: ambient and diffuse terms, and the coloured shadow of a

@@ -102,6 +102,20 @@ TEST(View, ScreenshotAfterFramesMatchesRender) {
     EXPECT_LE(d.maxLevels, 1) << "mean " << d.meanLevels;
 }
 
+// An authored glTF scene (its own camera, metal, glass, a point, a spot and
+// a directional light, the README's picture) in the window looks as
+// `render` draws it.
+TEST(View, AuthoredGltfMatchesRender) {
+    fs::path dir = scratchDir("authored");
+    const std::string scene = (sourceDir() / "scenes" / "pictures" / "authored.gltf").string();
+    const std::string size = "--width 160 --height 90 --spp 4";
+    CommandRun view = runView(scene + " " + size + " --frames 150 --screenshot view.png", dir);
+    ASSERT_EQ(view.status, 0) << view.output;
+    ASSERT_EQ(runRender(scene + " " + size + " --aov none -o render.png", dir).status, 0);
+    Difference d = compareRgb(readPng(dir / "view.png"), readPng(dir / "render.png"));
+    EXPECT_LE(d.maxLevels, 1) << "mean " << d.meanLevels;
+}
+
 TEST(View, CameraMoveRestartsAccumulation) {
     fs::path dir = scratchDir("camera");
     writeText(dir / "script.txt",

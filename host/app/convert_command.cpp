@@ -62,6 +62,7 @@ void writeEmbeddedTextures(Scene& scene, const std::filesystem::path& output) {
     auto material = [&](Material& m) {
         extract(m.diffuseTexture);
         extract(m.normalMap);
+        extract(m.emissionTexture);
     };
     std::function<void(Csg&)> children = [&](Csg& csg) {
         for (CsgChild& child : csg.children) {

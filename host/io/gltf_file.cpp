@@ -372,10 +372,8 @@ private:
                 g.normalScale = number(*t, "scale", at + "/normalTexture/scale", 1, -1e3, 1e3);
             }
             g.emissiveFactor = numbers<3>(m, "emissiveFactor", at + "/emissiveFactor", g.emissiveFactor, 0, 1);
-            if (member(m, "emissiveTexture")) {
-                g.hasEmissiveTexture = true;
-                warn(at + "/emissiveTexture", "is not used; emissiveFactor applies to the whole surface");
-            }
+            if (const Json* t = member(m, "emissiveTexture"))
+                g.emissiveTexture = texture(*t, at + "/emissiveTexture", TextureEncoding::Colour);
             std::string ext = at + "/extensions/";
             const Json& strength = extension(m, "KHR_materials_emissive_strength");
             g.emissiveStrength = number(strength, "emissiveStrength", ext + "KHR_materials_emissive_strength/emissiveStrength", 1, 0, 1e6);

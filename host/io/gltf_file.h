@@ -37,7 +37,7 @@ struct GltfMaterial {
     double normalScale = 1.0;
     glm::dvec3 emissiveFactor{0, 0, 0};
     double emissiveStrength = 1.0;     // KHR_materials_emissive_strength
-    bool hasEmissiveTexture = false;   // not mapped (a warning says so)
+    std::shared_ptr<const TextureData> emissiveTexture;  // sRGB decoded to linear
     double transmissionFactor = 0.0;   // KHR_materials_transmission
     double ior = 1.5;                  // KHR_materials_ior
     bool hasVolume = false;            // KHR_materials_volume:

@@ -24,6 +24,7 @@ static_assert(sizeof(gpu::Material) == 192 && offsetof(gpu::Material, diffuse) =
               offsetof(gpu::Material, checkerColor) == 64 && offsetof(gpu::Material, checkerSize) == 76 &&
               offsetof(gpu::Material, checkerOrigin) == 80 && offsetof(gpu::Material, absorption) == 96 &&
               offsetof(gpu::Material, diffuseTexture) == 112 && offsetof(gpu::Material, normalMap) == 116 &&
+              offsetof(gpu::Material, emissionTexture) == 120 &&
               offsetof(gpu::Material, flags) == 60 && offsetof(gpu::Material, textureScale) == 128 &&
               offsetof(gpu::Material, normalStrength) == 132 && offsetof(gpu::Material, transmissionColor) == 144 &&
               offsetof(gpu::Material, emission) == 160 && offsetof(gpu::Material, ambientColor) == 176);
@@ -106,6 +107,7 @@ gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const 
             .absorption = glm::vec3(m.absorption),
             .diffuseTexture = textureSlot(m.diffuseTexture, textures),
             .normalMap = textureSlot(m.normalMap, textures),
+            .emissionTexture = textureSlot(m.emissionTexture, textures),
             .textureScale = float(m.textureScale),
             .normalStrength = float(m.normalStrength),
             .transmissionColor = glm::vec3(m.transmissionColor),
@@ -128,7 +130,8 @@ gpu::Light packLight(const Light& l) {
 // Whether a mesh object needs per-triangle surface attributes.
 bool needsAttributes(const Object& object) {
     const Mesh* mesh = std::get_if<Mesh>(&object.shape);
-    return mesh && !mesh->uvs.empty() && (object.material.diffuseTexture || object.material.normalMap);
+    return mesh && !mesh->uvs.empty() && (object.material.diffuseTexture || object.material.normalMap ||
+                                              object.material.emissionTexture);
 }
 
 // Camera frame: image right = cross(forward, up), right and up scaled to the

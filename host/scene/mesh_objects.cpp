@@ -265,7 +265,8 @@ Mesh readGltfPart(const Diagnostics& diag, const XMLElement* e, const Placement&
     bool ownNormalMap = properties->FirstChildElement("normal_map") != nullptr;
     bool fileTextures = fileMaterials.wanted && material && (material->baseColorTexture || material->normalTexture);
     bool normalMapped = ownNormalMap || (fileMaterials.wanted && material && material->normalTexture);
-    bool textured = fileTextures || ownNormalMap || properties->FirstChildElement("diffuse_texture");
+    bool textured = fileTextures || ownNormalMap || properties->FirstChildElement("diffuse_texture") ||
+                    properties->FirstChildElement("emission_texture");
     glm::dmat4 world = placement.matrix ? *placement.matrix : glm::dmat4(placement.linear);
     Mesh mesh = meshFromGltfPrimitive(primitive, world, textured, normalMapped);
     for (Triangle& t : mesh.triangles) {
@@ -363,7 +364,8 @@ Mesh readMeshFile(const Diagnostics& diag, const XMLElement* e, const Placement&
     // A part keeps texture coordinates (and tangents) only where a texture
     // applies, as the OBJ/MTL scene does; the whole file always.
     const bool keepUvs = part.empty() || fileMaterials.wanted || tangents ||
-                         properties->FirstChildElement("diffuse_texture");
+                         properties->FirstChildElement("diffuse_texture") ||
+                         properties->FirstChildElement("emission_texture");
 
     Mesh mesh;
     size_t skipped = 0;
@@ -473,7 +475,8 @@ std::vector<Object> splitByFileMaterial(Object whole, const FileMaterials& fileM
         if (!fileMaterials.authored.empty()) {  // the file's MTL material, whole
             part.material = fileMaterials.authored[k];
             if (part.name.empty()) part.name = fileMaterials.names[k];
-            if (piece.uvs.empty()) part.material.diffuseTexture = {}, part.material.normalMap = {};
+            if (piece.uvs.empty())
+                part.material.diffuseTexture = {}, part.material.normalMap = {}, part.material.emissionTexture = {};
             if (part.material.normalMap && piece.tangents.empty())
                 piece.tangents.assign(piece.triangles.size(), std::array<glm::dvec3, 3>{});
         }

@@ -97,6 +97,7 @@ struct Material {
     glm::dvec3 transmissionColor{1, 1, 1};  // tints refracted light and the shadow filter (MTL Tf)
     glm::dvec3 emission{0, 0, 0};           // added where a ray hits the surface; lights nothing else
     std::optional<glm::dvec3> ambientColor{};  // the ambient term's colour (MTL Ka); none: Cd
+    TextureRef emissionTexture{};  // multiplies `emission` (glTF's emissiveTexture)
 };
 
 struct Sphere {

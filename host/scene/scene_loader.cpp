@@ -58,7 +58,7 @@ const std::vector<std::string_view> kMaterialProperties = {
     "refraction_coef", "transmission_coef", "specular_coef", "diffuse_coef", "ambiente_coef", "reflective",
     "shininess",       "reflection_coef",   "checker_color", "checker_size", "absorption",
     "diffuse_texture", "texture_scale",   "normal_map",    "normal_strength", "fresnel",
-    "transmission_color", "emission", "ambient_color"};
+    "transmission_color", "emission", "emission_texture", "ambient_color"};
 
 // <properties>: the seed's material elements, the extensions, then the
 // shape elements (each applies to some types only; see readShape).
@@ -81,6 +81,7 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"fresnel"},
                                                {"transmission_color"},
                                                {"emission"},
+                                               {"emission_texture"},
                                                {"ambient_color"},
                                                {"radius"},
                                                {"height"},
@@ -353,7 +354,7 @@ private:
 
     // ---- Textures ----
 
-    // <diffuse_texture> and <normal_map> on every type but triangle (which
+    // <diffuse_texture>, <normal_map> and <emission_texture> on every type but triangle (which
     // has no texture coordinates; a mesh of one polygon with <uv> has),
     // <normal_strength> with a <normal_map>, <texture_scale> on
     // planes only (scenes/README.md "Textures"). Left unread elsewhere, they are
@@ -363,7 +364,9 @@ private:
         for (auto [name, encoding, target] : {std::tuple("diffuse_texture", TextureEncoding::Colour,
                                                          &object.material.diffuseTexture),
                                               std::tuple("normal_map", TextureEncoding::Data,
-                                                         &object.material.normalMap)}) {
+                                                         &object.material.normalMap),
+                                              std::tuple("emission_texture", TextureEncoding::Colour,
+                                                         &object.material.emissionTexture)}) {
             const XMLElement* e = properties.optional(name);
             if (!e) continue;
             if (const Mesh* mesh = std::get_if<Mesh>(&object.shape); mesh && mesh->uvs.empty())

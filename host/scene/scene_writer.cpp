@@ -117,6 +117,8 @@ void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& pla
         x.value("normal_map", textureText(m.normalMap, places));
         x.value("normal_strength", m.normalStrength);
     }
+    if (m.emissionTexture && !m.emissionTexture.written.empty())
+        x.value("emission_texture", textureText(m.emissionTexture, places));
 }
 
 void writeLight(XmlOut& x, const Light& l) {

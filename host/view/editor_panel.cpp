@@ -97,6 +97,7 @@ static void syncModelParts(Scene& scene, int object, const glm::dvec3& moved) {
         other.material.diffuseColor = own.diffuseColor;
         other.material.diffuseTexture = own.diffuseTexture;
         other.material.normalMap = own.normalMap;
+        other.material.emissionTexture = own.emissionTexture;
     }
 }
 
