@@ -80,27 +80,28 @@ TEST(TextureFile, DecodesSrgbAndBuildsTheMipChain) {
     EXPECT_NEAR(texel(linear.levels[0], 3, 1).g, stored[(8 + 3) * 3 + 1], 1e-3f);
 }
 
-// A wall facing the camera, lit by ambient light only (ka = 1, white Cd),
-// shows the texture's own linear colours: the quadrant image, mapped once
-// onto the square the camera sees (planar mapping of a plane facing +z: u
-// along +x, v along +y, one repeat per <texture_scale>), comes out upright
-// and unmirrored, each quadrant in its place.
-TEST(TextureRender, PlanarMappingPutsTheImageUpright) {
-    fs::path dir = textureDir();
-    writeQuadrantTexture(dir / "quadrants.png");
-    const std::string xml = R"(<scene>
+// A wall facing the camera, in front of a 64x64 image: a plane facing +z
+// at z = 0 whose texture the planar mapping puts once onto the square the
+// camera sees (u along +x, v along +y, one repeat per <texture_scale>).
+// `ambient` is the ambient light's grey, `surface` the plane's material
+// and texture elements.
+std::string quadrantWallXml(const std::string& ambient, const std::string& surface) {
+    return R"(<scene>
   <camera><position x="0" y="0" z="2"/><window_position x="0" y="0" z="1"/><window_height>0.5</window_height>
     <width>64</width><height>64</height></camera>
-  <ambient_light r="1" g="1" b="1"/>
+  <ambient_light r=")" + ambient + R"(" g=")" + ambient + R"(" b=")" + ambient + R"("/>
   <lights/>
   <objects>
     <object><position x="-0.5" y="-0.5" z="0"/><diffuse_color r="1" g="1" b="1"/>
-      <properties><type>plane</type><normal x="0" y="0" z="1"/><diffuse_texture>quadrants.png</diffuse_texture>
-        <texture_scale>1</texture_scale><ambiente_coef>1</ambiente_coef><diffuse_coef>0</diffuse_coef></properties></object>
+      <properties><type>plane</type><normal x="0" y="0" z="1"/><texture_scale>1</texture_scale>)" + surface +
+           R"(</properties></object>
   </objects>
 </scene>)";
-    Scene scene = loadSceneFromString(xml, dir / "quadrants_wall.xml");
-    RenderResult r = renderScene(scene, {.samplesPerPixel = 1, .maxDepth = 0, .auxiliary = false});
+}
+
+// Each quadrant of the image of quadrantWallXml is the quadrant image's
+// colour times `scale`, in its place (upright, unmirrored).
+void expectQuadrants(const RenderResult& r, const glm::vec3& scale) {
     struct Expected {
         int x, y;
         glm::vec3 colour;
@@ -110,45 +111,38 @@ TEST(TextureRender, PlanarMappingPutsTheImageUpright) {
         for (int c = 0; c < 3; ++c)
             // 8-bit sRGB quantisation of the file: half a level is at most
             // 0.0025 in linear terms at these values.
-            EXPECT_NEAR(pixel(r, gpu::kAovColor, e.x, e.y)[c], e.colour[c], 0.004f)
+            EXPECT_NEAR(pixel(r, gpu::kAovColor, e.x, e.y)[c], scale[c] * e.colour[c], 0.004f)
                 << "pixel " << e.x << "," << e.y << " channel " << c;
 }
 
+// Lit by ambient light only (ka = 1, white Cd), the wall shows the
+// texture's own linear colours.
+TEST(TextureRender, PlanarMappingPutsTheImageUpright) {
+    fs::path dir = textureDir();
+    writeQuadrantTexture(dir / "quadrants.png");
+    const std::string xml = quadrantWallXml("1", "<diffuse_texture>quadrants.png</diffuse_texture>"
+                                                 "<ambiente_coef>1</ambiente_coef><diffuse_coef>0</diffuse_coef>");
+    Scene scene = loadSceneFromString(xml, dir / "quadrants_wall.xml");
+    expectQuadrants(renderScene(scene, {.samplesPerPixel = 1, .maxDepth = 0, .auxiliary = false}), glm::vec3(1));
+}
+
 // <emission_texture> multiplies <emission> (glTF's emissiveFactor times
-// emissiveTexture): an unlit plane (no ambient light, no lights, kd = 0)
-// shows emission times each quadrant's colour, in its place; the scene
-// writer keeps the element.
+// emissiveTexture): the unlit wall (no ambient light, no lights, kd = 0)
+// shows emission times each quadrant's colour; the scene writer keeps the
+// element.
 TEST(TextureRender, EmissionTextureMultipliesEmission) {
     fs::path dir = textureDir();
     writeQuadrantTexture(dir / "quadrants.png");
-    const std::string xml = R"(<scene>
-  <camera><position x="0" y="0" z="2"/><window_position x="0" y="0" z="1"/><window_height>0.5</window_height>
-    <width>64</width><height>64</height></camera>
-  <ambient_light r="0" g="0" b="0"/>
-  <lights/>
-  <objects>
-    <object><position x="-0.5" y="-0.5" z="0"/><diffuse_color r="1" g="1" b="1"/>
-      <properties><type>plane</type><normal x="0" y="0" z="1"/><emission r="0.5" g="1" b="0.75"/>
-        <emission_texture>quadrants.png</emission_texture><texture_scale>1</texture_scale>
-        <ambiente_coef>0</ambiente_coef><diffuse_coef>0</diffuse_coef><specular_coef>0</specular_coef></properties></object>
-  </objects>
-</scene>)";
+    const std::string xml = quadrantWallXml("0", R"(<emission r="0.5" g="1" b="0.75"/>)"
+                                                 "<emission_texture>quadrants.png</emission_texture>"
+                                                 "<ambiente_coef>0</ambiente_coef><diffuse_coef>0</diffuse_coef>"
+                                                 "<specular_coef>0</specular_coef>");
     Scene scene = loadSceneFromString(xml, dir / "emission_wall.xml");
-    const glm::vec3 emission(0.5f, 1.0f, 0.75f);
     for (const Scene& s : {scene, loadSceneFromString(sceneXml(scene), dir / "emission_wall_written.xml")}) {
         ASSERT_TRUE(s.objects[0].material.emissionTexture);
         EXPECT_EQ(s.objects[0].material.emissionTexture.written, "quadrants.png");
-        RenderResult r = renderScene(s, {.samplesPerPixel = 1, .maxDepth = 0, .auxiliary = false});
-        struct Expected {
-            int x, y;
-            glm::vec3 colour;
-        };
-        for (const Expected& e : {Expected{16, 16, kQuadrantTopLeft}, Expected{48, 16, kQuadrantTopRight},
-                                  Expected{16, 48, kQuadrantBottomLeft}, Expected{48, 48, kQuadrantBottomRight}})
-            for (int c = 0; c < 3; ++c)
-                // 8-bit sRGB quantisation of the file, as above, times emission.
-                EXPECT_NEAR(pixel(r, gpu::kAovColor, e.x, e.y)[c], emission[c] * e.colour[c], 0.004f)
-                    << "pixel " << e.x << "," << e.y << " channel " << c;
+        expectQuadrants(renderScene(s, {.samplesPerPixel = 1, .maxDepth = 0, .auxiliary = false}),
+                        glm::vec3(0.5f, 1.0f, 0.75f));
     }
 }
 
