@@ -302,6 +302,10 @@ TEST_P(BvhMatchesBruteForce, SameImage) {
     s.useBvh = false;
     RenderResult brute = renderScene(scene, s);
     EXPECT_GT(bvh.bvh.nodeCount, 0u);
+    // The record's wide nodes are the tree the shader walks: W <= max(L - 1, 1).
+    EXPECT_GT(bvh.bvh.wideNodeCount, 0u);
+    EXPECT_LE(bvh.bvh.wideNodeCount, std::max(bvh.bvh.leafCount, 2u) - 1u);
+    EXPECT_LT(bvh.bvh.wideNodeCount, bvh.bvh.nodeCount);
     int differing = 0;
     for (int y = 0; y < bvh.height; ++y)
         for (int x = 0; x < bvh.width; ++x) {

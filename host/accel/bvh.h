@@ -13,7 +13,8 @@ namespace whitted {
 
 struct BvhStats {
     double buildSeconds = 0;
-    uint32_t nodeCount = 0;  // of the binary tree
+    uint32_t nodeCount = 0;      // of the binary tree
+    uint32_t wideNodeCount = 0;  // of the 8-wide tree the shader walks (set by whoever collapses it)
     uint32_t leafCount = 0;
     uint32_t maxDepth = 0;
     double sahCost = 0;  // expected cost, in node-visit units

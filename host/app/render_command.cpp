@@ -208,8 +208,8 @@ int runRenderCommand(const RenderCommandOptions& options) {
     if (!options.quiet) {
         // Scene preparation times: the loader (model files included), the
         // BVH build and the upload to the device.
-        std::fprintf(stderr, "whitted: scene loaded in %.2f s, BVH of %u nodes built in %.2f s, uploaded in %.2f s\n",
-                     loadSeconds, result.bvh.nodeCount, result.bvh.buildSeconds, result.uploadSeconds);
+        std::fprintf(stderr, "whitted: scene loaded in %.2f s, BVH of %u wide nodes built in %.2f s, uploaded in %.2f s\n",
+                     loadSeconds, result.bvh.wideNodeCount, result.bvh.buildSeconds, result.uploadSeconds);
         double mrays = double(result.rays.total()) / std::max(result.renderSeconds, 1e-9) / 1e6;
         double meanSpp = double(result.samplesTaken) / (double(result.width) * result.height);
         std::fprintf(stderr, "whitted: wrote %s (%dx%d, %s %.2f spp of at most %d, %zu auxiliary) in %.2f s, %.1f Mrays/s\n",

@@ -97,6 +97,7 @@ std::string renderRecordJson(const RenderRecord& r) {
           {"render", res.renderSeconds}}},
         {"bvh",
          {{"nodes", res.bvh.nodeCount},
+          {"wide_nodes", res.bvh.wideNodeCount},
           {"leaves", res.bvh.leafCount},
           {"max_depth", res.bvh.maxDepth},
           {"sah_cost", res.bvh.sahCost}}},

@@ -256,6 +256,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
         throw std::runtime_error("the scene's BVH has " + std::to_string(g.bvhNodes.size()) +
                                  " nodes, more than the shader addresses (" + std::to_string(gpu::kBvhMaxNodes) + ")");
     g.bvhStats = bvh.stats;
+    g.bvhStats.wideNodeCount = uint32_t(g.bvhNodes.size());
     // The primitives in place in their final order, without a second copy.
     std::vector<uint32_t>& source = bvh.primitiveOrder;
     for (uint32_t& k : source) k = bounded[k];
