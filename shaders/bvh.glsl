@@ -144,14 +144,16 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
 #undef WHITTED_SORT2
                 }
                 // Shadow rays: slot order, the first hit child walked next
-                // (popped at once when child 0 is missed).
-                if (t7 < kMiss) { stackT[top] = t7; stack[top++] = e7; }
-                if (t6 < kMiss) { stackT[top] = t6; stack[top++] = e6; }
-                if (t5 < kMiss) { stackT[top] = t5; stack[top++] = e5; }
-                if (t4 < kMiss) { stackT[top] = t4; stack[top++] = e4; }
-                if (t3 < kMiss) { stackT[top] = t3; stack[top++] = e3; }
-                if (t2 < kMiss) { stackT[top] = t2; stack[top++] = e2; }
-                if (t1 < kMiss) { stackT[top] = t1; stack[top++] = e1; }
+                // (popped at once when child 0 is missed). They never cull
+                // by entry distance, so they store none: lavapipe writes a
+                // private array lane by lane (a scalar store per lane).
+                if (t7 < kMiss) { if (!shadow) stackT[top] = t7; stack[top++] = e7; }
+                if (t6 < kMiss) { if (!shadow) stackT[top] = t6; stack[top++] = e6; }
+                if (t5 < kMiss) { if (!shadow) stackT[top] = t5; stack[top++] = e5; }
+                if (t4 < kMiss) { if (!shadow) stackT[top] = t4; stack[top++] = e4; }
+                if (t3 < kMiss) { if (!shadow) stackT[top] = t3; stack[top++] = e3; }
+                if (t2 < kMiss) { if (!shadow) stackT[top] = t2; stack[top++] = e2; }
+                if (t1 < kMiss) { if (!shadow) stackT[top] = t1; stack[top++] = e1; }
                 entry = t0 < kMiss ? e0 : kNoEntry;
             }
             bool culled = false;
