@@ -2,6 +2,7 @@
 #include "output/aov_output.h"
 #include "io/image_io.h"
 #include "io/image_library.h"
+#include "io/png_file.h"
 #include "test_support.h"
 
 #include <bit>
@@ -9,6 +10,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <random>
 #include <utility>
 
 namespace whitted::test {
@@ -77,6 +79,22 @@ TEST(ImageOutput, FailedWriteLeavesNothingBehind) {
     fs::path dir = freshDir("atomic");
     EXPECT_THROW(writeImage(dir / "missing" / "a.png", 1, 1, 1, std::vector<float>{0.5f}, PixelEncoding::Linear8),
                  std::runtime_error);
+    EXPECT_TRUE(fs::is_empty(dir));
+    // The message names the file and the reason (PNG is written without the module: host/io/png_file.cpp).
+    try {
+        writeImage(dir / "missing" / "a.png", 1, 1, 3, std::vector<float>{0.5f, 0.5f, 0.5f}, PixelEncoding::Srgb8);
+        ADD_FAILURE() << "no error";
+    } catch (const std::runtime_error& e) {
+        std::string message = e.what();
+        EXPECT_EQ(message.rfind((dir / "missing" / "a.png").string() + ": cannot write image: cannot open ", 0), 0u)
+            << message;
+        EXPECT_NE(message.find("No such file or directory"), std::string::npos) << message;
+    }
+    // A PNG given up after some of its rows (a render that failed halfway) leaves nothing either.
+    {
+        ImageStreamWriter writer(dir / "c.png", 4, 4, 3, PixelEncoding::Srgb8);
+        writer.writeRows(0, 2, std::vector<float>(4 * 2 * 3, 0.25f));
+    }
     EXPECT_TRUE(fs::is_empty(dir));
     writeImage(dir / "b.png", 1, 1, 1, std::vector<float>{0.5f}, PixelEncoding::Linear8);
     std::vector<fs::path> files;
@@ -162,25 +180,159 @@ TEST(ImageOutput, PpmAndPgmAreTheModulesBytes) {
     }
 }
 
-// A render into PPM files never loads the image module (its load costs more
-// than a small render): the dynamic loader's list of the files it opened
-// does not name it, while a PNG render's does.
-TEST(ImageLibrary, PpmRenderDoesNotLoadTheModule) {
+// PNG is written without the image module (host/io/png_file.cpp): the same
+// bytes as the module writes for the same pixels, for 1 to 4 channels, sRGB
+// (its colour chunks and text) or not, odd sizes, rows handed in bands of
+// several sizes; and the module reads the codes back.
+TEST(ImageOutput, PngIsTheModulesBytes) {
+    fs::path dir = freshDir("png");
+    auto bytesOf = [](const fs::path& path) {
+        std::ifstream in(path, std::ios::binary);
+        return std::vector<char>((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    };
+    std::mt19937 random(19);
+    std::uniform_real_distribution<float> unit(-0.1f, 1.1f);  // clamped at both ends too
+    struct Size {
+        int width, height, band;
+    };
+    int files = 0;
+    for (Size size : {Size{7, 5, 2}, Size{1, 1, 1}, Size{300, 2, 1}, Size{64, 33, 16}})
+        for (int channels = 1; channels <= 4; ++channels)
+            for (PixelEncoding encoding : {PixelEncoding::Srgb8, PixelEncoding::Linear8}) {
+                const int width = size.width, height = size.height;
+                std::string name = std::to_string(width) + "x" + std::to_string(height) + "-" +
+                                   std::to_string(channels) + (encoding == PixelEncoding::Srgb8 ? "-srgb" : "-linear");
+                std::vector<float> pixels(size_t(width) * height * channels);
+                for (size_t i = 0; i < pixels.size(); ++i) {
+                    pixels[i] = unit(random);
+                    // Alpha channels: a third of the pixels opaque (the first among them), a third
+                    // transparent, a third in between.
+                    size_t p = i / size_t(channels);
+                    if ((channels == 2 || channels == 4) && i % channels == size_t(channels - 1) && p % 3 < 2)
+                        pixels[i] = p % 3 == 0 ? 1.0f : 0.0f;
+                }
+                // Ours, in bands as a render hands them in.
+                ImageStreamWriter ours(dir / (name + ".png"), width, height, channels, encoding);
+                for (int y = 0; y < height; y += size.band) {
+                    int rows = std::min(size.band, height - y);
+                    ours.writeRows(y, rows, std::span<const float>(pixels).subspan(size_t(y) * width * channels,
+                                                                                  size_t(rows) * width * channels));
+                }
+                ours.commit();
+
+                // The module's, the same codes in one go.
+                std::vector<unsigned char> codes(pixels.size());
+                for (size_t i = 0; i < pixels.size(); ++i) codes[i] = encode8(pixels[i], encoding);
+                std::string error;
+                fs::path reference = dir / ("module-" + name + ".png");
+                auto writer = imageLibrary().openWriter(
+                    reference.string(),
+                    ImageFileSpec{.width = width, .height = height, .channels = channels,
+                                  .srgb = encoding == PixelEncoding::Srgb8, .window = {}},
+                    error);
+                ASSERT_NE(writer, nullptr) << error;
+                ASSERT_TRUE(writer->writeRows(0, height, codes.data(), error)) << error;
+                ASSERT_TRUE(writer->close(error)) << error;
+                std::vector<char> mine = bytesOf(dir / (name + ".png")), theirs = bytesOf(reference);
+                ASSERT_GT(mine.size(), 8u) << name;
+                EXPECT_EQ(mine, theirs) << name;
+
+                // Read back through the module: the codes, exactly. (Its reader
+                // associates alpha again, so pixels with alpha are compared
+                // where they are opaque.)
+                int w, h, c;
+                std::vector<float> decoded;
+                readImageInto(dir / (name + ".png"), w, h, c, decoded);
+                ASSERT_EQ(w, width);
+                ASSERT_EQ(h, height);
+                ASSERT_EQ(c, channels);
+                ASSERT_EQ(decoded.size(), codes.size());
+                bool alpha = channels == 2 || channels == 4;
+                size_t compared = 0;
+                for (size_t p = 0; p < size_t(width) * height; ++p) {
+                    if (alpha && codes[p * channels + channels - 1] != 255) continue;
+                    for (int k = 0; k < channels; ++k, ++compared)
+                        ASSERT_EQ(std::lround(decoded[p * channels + k] * 255.0f), codes[p * channels + k])
+                            << name << " pixel " << p << " channel " << k;
+                }
+                EXPECT_GT(compared, 0u) << name;
+                ++files;
+            }
+    EXPECT_EQ(files, 32);
+}
+
+// libpng's errors (here the writes into a full device, at a row or at the
+// end) come back as a clear error, not a crash; rows out of order and a
+// close before the last row are refused.
+TEST(ImageOutput, PngWriterReportsErrors) {
+    if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+    const int width = 128, height = 64;
+    std::vector<unsigned char> noise(size_t(width) * height * 3);
+    std::mt19937 random(7);
+    for (unsigned char& v : noise) v = static_cast<unsigned char>(random());  // incompressible: writes happen per row
+    std::string error;
+    auto full = openPngWriter("/dev/full", ImageFileSpec{.width = width, .height = height, .channels = 3,
+                                                         .srgb = true, .window = {}},
+                              error);
+    ASSERT_NE(full, nullptr) << error;
+    bool ok = full->writeRows(0, height, noise.data(), error) && full->close(error);
+    EXPECT_FALSE(ok);
+    EXPECT_NE(error.find("write failed: No space left on device"), std::string::npos) << error;
+
+    fs::path dir = freshDir("png_errors");
+    error.clear();
+    auto writer = openPngWriter((dir / "a.png").string(),
+                                ImageFileSpec{.width = width, .height = height, .channels = 3, .window = {}}, error);
+    ASSERT_NE(writer, nullptr) << error;
+    EXPECT_FALSE(writer->writeRows(2, 3, noise.data(), error));
+    EXPECT_EQ(error, "PNG rows are written in order: expected row 0, got rows 2 to 3");
+    ASSERT_TRUE(writer->writeRows(0, 3, noise.data(), error)) << error;
+    EXPECT_FALSE(writer->close(error));
+    EXPECT_EQ(error, "PNG closed after 3 of 64 rows");
+
+    error.clear();
+    EXPECT_EQ(openPngWriter((dir / "b.png").string(),
+                            ImageFileSpec{.width = 0, .height = 4, .channels = 3, .window = {}}, error),
+              nullptr);
+    EXPECT_EQ(error, "PNG needs at least 1x1 pixels, got 0x4");
+    EXPECT_EQ(openPngWriter((dir / "c.png").string(),
+                            ImageFileSpec{.width = 4, .height = 4, .channels = 5, .window = {}}, error),
+              nullptr);
+    EXPECT_EQ(error, "PNG holds 1 to 4 channels, not 5");
+}
+
+// A render into PNG or PPM files never loads the image module (its load
+// costs more than a small render): the dynamic loader's list of the files
+// it opened does not name it, with the default auxiliary images and with
+// --aov none, while an EXR render's does.
+TEST(ImageLibrary, PngAndPpmRendersDoNotLoadTheModule) {
 #ifdef WHITTED_IMAGE_LIBRARY_STATIC
     GTEST_SKIP() << "the sanitizer build links OpenImageIO in (CMakeLists.txt, WHITTED_SANITIZE)";
 #endif
-    fs::path dir = freshOutputDir("image_library", "ppm_render");
-    for (const char* name : {"x.ppm", "x.png"}) {
+    fs::path dir = freshOutputDir("image_library", "png_ppm_render");
+    for (auto [name, aov] : {std::pair{"x.ppm", "depth"}, std::pair{"y.png", ""}, std::pair{"z.png", "none"},
+                             std::pair{"w.exr", "depth"}}) {
         CommandRun run = runCommand("LD_DEBUG=files '" WHITTED_EXECUTABLE
-                                    "' render scenes/room.xml --width 8 --height 6 -q --aov depth -o '" +
+                                    "' render scenes/room.xml --width 8 --height 6 -q" +
+                                        (std::string(aov).empty() ? "" : " --aov " + std::string(aov)) + " -o '" +
                                         (dir / name).string() + "'",
                                     sourceDir());
         ASSERT_EQ(run.status, 0) << run.output;
         EXPECT_NE(run.output.find("libvulkan"), std::string::npos) << "the loader's list was read";
         bool loaded = run.output.find("whitted_image_io") != std::string::npos;
-        EXPECT_EQ(loaded, std::string(name) == "x.png") << name;
+        EXPECT_EQ(loaded, fs::path(name).extension() == ".exr") << name;
         EXPECT_TRUE(fs::exists(dir / name)) << name;
     }
+    // The default auxiliary images were written beside y.png, each a PNG the module reads.
+    int pngs = 0;
+    for (const auto& e : fs::directory_iterator(dir))
+        if (e.path().filename().string().rfind("y.", 0) == 0 && e.path().extension() == ".png") {
+            ++pngs;
+            std::vector<float> pixels = readBack(e.path());
+            EXPECT_FALSE(pixels.empty()) << e.path();
+            EXPECT_EQ(pixels.size() % (8u * 6u), 0u) << e.path();
+        }
+    EXPECT_GT(pngs, 1) << "the main image and auxiliary images";
 }
 
 }  // namespace

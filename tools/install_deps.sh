@@ -8,6 +8,7 @@ packages=(
   libvulkan-dev vulkan-tools vulkan-validationlayers
   glslang-tools spirv-tools
   libglfw3-dev libglm-dev libtinyxml2-dev libopenimageio-dev openimageio-tools
+  libpng-dev  # PNG written without the image module (host/io/png_file.cpp)
   libgtest-dev libcli11-dev
   libembree-dev  # the benchmark's limit anchor (tools/embree_anchor.cpp); whitted itself does not link it
   povray xvfb xauth

@@ -1,6 +1,7 @@
 #include "io/image_io.h"
 
 #include "io/image_library.h"
+#include "io/png_file.h"
 
 #include <algorithm>
 #include <array>
@@ -60,14 +61,18 @@ private:
 
 const SrgbEncoder kSrgbEncoder;
 
-// Binary PPM (3 channels) and PGM (1 channel), 8-bit, written here rather
-// than through the image module: loading OpenImageIO's hundreds of libraries
-// costs far more than a small render (tools/benchmark_results/README.md),
-// and these two formats are a header line and the bytes. The files are the
-// ones OpenImageIO writes, byte for byte ("P6\nW H\n255\n", rows from the
-// top); other channel counts go through the module.
+// The 8-bit files written here rather than through the image module:
+// loading OpenImageIO's hundreds of libraries costs far more than a small
+// render (tools/benchmark_results/README.md). Each is the file OpenImageIO
+// writes, byte for byte:
+//   - binary PPM (3 channels) and PGM (1 channel): a header line and the
+//     bytes ("P6\nW H\n255\n", rows from the top); other channel counts go
+//     through the module;
+//   - PNG of 1 to 4 channels through libpng, with the module's settings and
+//     chunks (host/io/png_file.cpp).
 bool isNativeFormat(const std::string& extension, int channels) {
-    return (extension == ".ppm" && (channels == 1 || channels == 3)) || (extension == ".pgm" && channels == 1);
+    return (extension == ".ppm" && (channels == 1 || channels == 3)) || (extension == ".pgm" && channels == 1) ||
+           (extension == ".png" && channels >= 1 && channels <= 4);
 }
 
 class PnmWriter final : public ImageFileWriter {
@@ -113,7 +118,7 @@ bool isWritableFormat(const std::filesystem::path& path) {
 
 bool writtenWithoutImageLibrary(const std::filesystem::path& path) {
     std::string ext = lowerExtension(path);
-    return ext == ".ppm" || ext == ".pgm";
+    return ext == ".ppm" || ext == ".pgm" || ext == ".png";
 }
 
 unsigned char encode8(float v, PixelEncoding encoding) {
@@ -141,7 +146,11 @@ ImageStreamWriter::ImageStreamWriter(const std::filesystem::path& path, int widt
                        .uintPixels = encoding == PixelEncoding::Uint32, .srgb = encoding == PixelEncoding::Srgb8,
                        .window = window};
     std::string error;
-    if (!isFloat_ && isNativeFormat(lowerExtension(path), channels)) {
+    std::string extension = lowerExtension(path);
+    bool native = !isFloat_ && isNativeFormat(extension, channels);
+    if (native && extension == ".png") {
+        out_->file = openPngWriter(temporary_.string(), spec, error);
+    } else if (native) {
         auto pnm = std::make_unique<PnmWriter>(temporary_.string(), spec, error);
         if (pnm->ok()) out_->file = std::move(pnm);
     } else {

@@ -1,5 +1,7 @@
-// Image files through OpenImageIO, written atomically: a temporary file in
-// the destination folder is renamed over the target only once complete.
+// Image files, written atomically: a temporary file in the destination
+// folder is renamed over the target only once complete. 8-bit PNG, PPM and
+// PGM are written here (libpng for PNG), other formats and all reading
+// through OpenImageIO's module (host/io/image_library.h).
 #pragma once
 
 #include <filesystem>
@@ -18,10 +20,11 @@ enum class PixelEncoding {
 
 // True if the extension names a format that stores float pixels (.exr, .hdr).
 bool isFloatFormat(const std::filesystem::path& path);
-// True if OpenImageIO can write this file's format (.ppm and .pgm without
-// loading it: see writtenWithoutImageLibrary).
+// True if OpenImageIO can write this file's format (.png, .ppm and .pgm
+// without loading it: see writtenWithoutImageLibrary).
 bool isWritableFormat(const std::filesystem::path& path);
-// True for .ppm and .pgm, whose 1- and 3-channel 8-bit images are written
+// True for .png, .ppm and .pgm, whose 8-bit images (PNG: 1 to 4 channels;
+// PPM: 1 and 3; PGM: 1, the channel counts a render writes) are written
 // here without the image module (host/io/image_library.h), byte for byte
 // as it would write them: a render into them need not load it.
 bool writtenWithoutImageLibrary(const std::filesystem::path& path);

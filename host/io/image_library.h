@@ -1,15 +1,17 @@
 // OpenImageIO behind a module of its own (whitted_image_io.so), loaded when
-// an image file is first read or written, or ahead of that on a second
-// thread (preloadImageLibrary).
+// an image file is first read or written in a format other than 8-bit PNG,
+// PPM and PGM (written without it: host/io/image_io.h), or ahead of that on
+// a second thread (preloadImageLibrary).
 //
 // Why: Debian's OpenImageIO links hundreds of shared libraries (OpenCV,
 // FFmpeg, GDAL, DCMTK, ...), all built with BIND_NOW, so a process linked to
 // it spent a noticeable part of its start in the dynamic loader before main
-// (measured: see tools/benchmark_results/README.md). A process that writes
-// no image (`whitted view` without textures or screenshots, a refused
-// scene, `whitted devices`) now never pays it, and `whitted render` loads it
-// on a second thread while lavapipe builds the pipeline when a core is
-// idle, which finishes sooner. On a busy machine the load held up the
+// (measured: see tools/benchmark_results/README.md). A process that reads
+// no image and writes none or only PNG, PPM and PGM (`whitted render` into
+// PNG without textures, `whitted view` without textures, a refused scene,
+// `whitted devices`) now never pays it, and `whitted render` into other
+// formats loads it on a second thread while lavapipe builds the pipeline
+// when a core is idle, which finishes sooner. On a busy machine the load held up the
 // pipeline build (lowering the thread's priority did not help, so it is
 // waiting on the loader's locks, not for a core), hence the condition on an
 // idle core at that moment.
