@@ -217,7 +217,8 @@ def drag_proxy(bench, repeats):
 def warm_start(bench, repeats):
     """Whole-process wall time of a warm 8x8 render of the room (default sampling, --aov none): the fixed cost of a
     render. One untimed run first warms the caches (Mesa's and the pipeline cache); then `repeats` runs into a PPM
-    (written without the image library) and into a PNG (which loads it), interleaved between drivers."""
+    and into a PNG (both written without the image library since 2026-12-02; before, a PNG loaded it), interleaved
+    between drivers."""
     progress("warm start")
     width, height = STARTUP_SIZE
     out = {}
