@@ -159,16 +159,18 @@ void flatten(const BuildNode& node, uint32_t index, uint32_t depth, Bvh& bvh) {
     flatten(*node.right, children + 1, depth + 1, bvh);
 }
 
+Aabb boxOf(const BinaryBvhNode& n) {
+    Aabb b;
+    b.min = n.lo;
+    b.max = n.hi;
+    return b;
+}
+
 // Expected traversal cost of the tree (for reports): sum over nodes of
 // area(node) / area(root) times the node's work.
 double sahCost(const Bvh& bvh) {
     if (bvh.nodes.empty()) return 0;
-    auto area = [](const BinaryBvhNode& n) {
-        Aabb b;
-        b.min = n.lo;
-        b.max = n.hi;
-        return double(b.surfaceArea());
-    };
+    auto area = [](const BinaryBvhNode& n) { return double(boxOf(n).surfaceArea()); };
     double rootArea = std::max(area(bvh.nodes[0]), 1e-30);
     double cost = 0;
     for (const BinaryBvhNode& n : bvh.nodes) {
@@ -176,13 +178,6 @@ double sahCost(const Bvh& bvh) {
         cost += area(n) / rootArea * (count ? double(count) : kTraversalCost);
     }
     return cost;
-}
-
-Aabb boxOf(const BinaryBvhNode& n) {
-    Aabb b;
-    b.min = n.lo;
-    b.max = n.hi;
-    return b;
 }
 
 bool isInner(const BinaryBvhNode& n) { return n.primitiveCount == 0u; }

@@ -60,9 +60,7 @@ void writeEmbeddedTextures(Scene& scene, const std::filesystem::path& output) {
         ref.written = written[ref.data.get()] = std::filesystem::absolute(output.parent_path() / file).string();
     };
     auto material = [&](Material& m) {
-        extract(m.diffuseTexture);
-        extract(m.normalMap);
-        extract(m.emissionTexture);
+        for (TextureRef* t : m.textures()) extract(*t);
     };
     std::function<void(Csg&)> children = [&](Csg& csg) {
         for (CsgChild& child : csg.children) {

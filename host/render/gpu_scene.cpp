@@ -130,8 +130,7 @@ gpu::Light packLight(const Light& l) {
 // Whether a mesh object needs per-triangle surface attributes.
 bool needsAttributes(const Object& object) {
     const Mesh* mesh = std::get_if<Mesh>(&object.shape);
-    return mesh && !mesh->uvs.empty() && (object.material.diffuseTexture || object.material.normalMap ||
-                                              object.material.emissionTexture);
+    return mesh && !mesh->uvs.empty() && object.material.textured();
 }
 
 // Camera frame: image right = cross(forward, up), right and up scaled to the

@@ -225,14 +225,11 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
                 } else {  // no material: white Lambert (the specification's default, a rough metal, is black here)
                     object.material.ambient = 0;
                 }
-                bool textured = object.material.diffuseTexture || object.material.normalMap ||
-                                object.material.emissionTexture;
+                bool textured = object.material.textured();
                 if (textured && prim.uvs.empty()) {
                     scene.warnings.push_back(where + ": node \"" + nodeName +
                                              "\": its textures are not used: the primitive has no TEXCOORD_0");
-                    object.material.diffuseTexture = {};
-                    object.material.normalMap = {};
-                    object.material.emissionTexture = {};
+                    object.material.dropTextures();
                     textured = false;
                 }
                 Mesh out = meshFromGltfPrimitive(prim, world, textured, bool(object.material.normalMap));
@@ -382,7 +379,7 @@ AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
         }
         mesh.triangles.push_back({v[0], v[1], v[2]});
         if (!data.normals.empty()) mesh.normals.push_back(data.normals[t]);
-        bool textured = o.material.diffuseTexture || o.material.normalMap || o.material.emissionTexture;
+        bool textured = o.material.textured();
         if (textured && !data.uvs.empty()) {
             mesh.uvs.push_back(data.uvs[t]);
             if (o.material.normalMap)

@@ -241,6 +241,15 @@ const GltfPrimitive& gltfPart(const Diagnostics& diag, const XMLElement* e, cons
     return m.primitives[*primitive];
 }
 
+// Whether the object's <properties> give it a texture of its own (the
+// texture elements of scenes/README.md "Textures"), which reads the mesh's
+// texture coordinates.
+bool namesTexture(const XMLElement* properties) {
+    for (const char* texture : {"diffuse_texture", "normal_map", "emission_texture"})
+        if (properties->FirstChildElement(texture)) return true;
+    return false;
+}
+
 // A glTF primitive, built as the glTF scene builds it (authored_scene.h),
 // so that a converted scene renders bit for bit as the file: world = the
 // <matrix> (else the <scale> and <rotation>), then moved by <position>.
@@ -265,8 +274,7 @@ Mesh readGltfPart(const Diagnostics& diag, const XMLElement* e, const Placement&
     bool ownNormalMap = properties->FirstChildElement("normal_map") != nullptr;
     bool fileTextures = fileMaterials.wanted && material && (material->baseColorTexture || material->normalTexture);
     bool normalMapped = ownNormalMap || (fileMaterials.wanted && material && material->normalTexture);
-    bool textured = fileTextures || ownNormalMap || properties->FirstChildElement("diffuse_texture") ||
-                    properties->FirstChildElement("emission_texture");
+    bool textured = fileTextures || namesTexture(properties);
     glm::dmat4 world = placement.matrix ? *placement.matrix : glm::dmat4(placement.linear);
     Mesh mesh = meshFromGltfPrimitive(primitive, world, textured, normalMapped);
     for (Triangle& t : mesh.triangles) {
@@ -363,9 +371,7 @@ Mesh readMeshFile(const Diagnostics& diag, const XMLElement* e, const Placement&
     }
     // A part keeps texture coordinates (and tangents) only where a texture
     // applies, as the OBJ/MTL scene does; the whole file always.
-    const bool keepUvs = part.empty() || fileMaterials.wanted || tangents ||
-                         properties->FirstChildElement("diffuse_texture") ||
-                         properties->FirstChildElement("emission_texture");
+    const bool keepUvs = part.empty() || fileMaterials.wanted || tangents || namesTexture(properties);
 
     Mesh mesh;
     size_t skipped = 0;
@@ -476,7 +482,7 @@ std::vector<Object> splitByFileMaterial(Object whole, const FileMaterials& fileM
             part.material = fileMaterials.authored[k];
             if (part.name.empty()) part.name = fileMaterials.names[k];
             if (piece.uvs.empty())
-                part.material.diffuseTexture = {}, part.material.normalMap = {}, part.material.emissionTexture = {};
+                part.material.dropTextures();
             if (part.material.normalMap && piece.tangents.empty())
                 piece.tangents.assign(piece.triangles.size(), std::array<glm::dvec3, 3>{});
         }

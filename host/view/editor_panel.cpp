@@ -95,9 +95,7 @@ static void syncModelParts(Scene& scene, int object, const glm::dvec3& moved) {
         Material own = other.material;
         other.material = edited.material;
         other.material.diffuseColor = own.diffuseColor;
-        other.material.diffuseTexture = own.diffuseTexture;
-        other.material.normalMap = own.normalMap;
-        other.material.emissionTexture = own.emissionTexture;
+        for (size_t k = 0; k < own.textures().size(); ++k) *other.material.textures()[k] = *own.textures()[k];
     }
 }
 
@@ -259,7 +257,7 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         if (m.ambientColor) result.changed |= editColour("ambient colour", *m.ambientColor, false);
         // Texture controls (scenes/README.md "Textures"): a plane's repeat length, a
         // normal map's strength.
-        if (std::holds_alternative<Plane>(o.shape) && (m.diffuseTexture || m.normalMap)) {
+        if (std::holds_alternative<Plane>(o.shape) && m.textured()) {
             float scale = float(m.textureScale);
             if (ImGui::DragFloat("texture scale", &scale, 0.01f, 1e-3f, 1e3f)) {
                 m.textureScale = std::max(double(scale), 1e-3);

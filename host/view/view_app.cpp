@@ -41,7 +41,7 @@ using Clock = std::chrono::steady_clock;
 std::vector<std::filesystem::path> textureFiles(const Scene& scene) {
     std::set<std::filesystem::path> files;
     for (const Object& o : scene.objects)
-        for (const TextureRef* t : {&o.material.diffuseTexture, &o.material.normalMap, &o.material.emissionTexture})
+        for (const TextureRef* t : o.material.textures())
             if (*t && !t->written.empty()) {
                 std::filesystem::path path(t->written);
                 files.insert(path.is_relative() ? scene.sourcePath.parent_path() / path : path);
