@@ -38,8 +38,8 @@ Window proxy: `whitted render room.xml --width 640 --height 360 --aa uniform --s
 driver, render time from the record (the live window's frame during a camera drag traces this much).
 
 Warm start: `whitted render room.xml --width 8 --height 8 --aov none` after one untimed run, 7 times per driver into a
-PPM (which whitted writes without loading OpenImageIO) and into a PNG (which loads it), whole-process wall time: the
-fixed cost of a render on a machine that has run it before.
+PPM and into a PNG (both written without loading OpenImageIO), whole-process wall time: the fixed cost of a render
+on a machine that has run it before.
 
 Drivers: --driver-files ICD.json (repeatable; `default` = the Vulkan loader's choice) runs whitted with
 VK_DRIVER_FILES=ICD.json and LD_LIBRARY_PATH prefixed by the folder of the JSON's absolute ICD.library_path; --label
