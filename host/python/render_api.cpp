@@ -142,13 +142,6 @@ struct Uploaded {
     RenderSettings settings;
 };
 
-bool sameSettings(const RenderSettings& a, const RenderSettings& b) {
-    return a.width == b.width && a.height == b.height && a.samplesPerPixel == b.samplesPerPixel &&
-           a.maxDepth == b.maxDepth && a.auxiliary == b.auxiliary && a.aovBounces == b.aovBounces &&
-           a.trace == b.trace && a.antiAliasing == b.antiAliasing && a.aaThreshold == b.aaThreshold &&
-           a.region == b.region;
-}
-
 class PyRenderer {
 public:
     explicit PyRenderer(const std::optional<std::string>& device) {
@@ -259,7 +252,7 @@ private:
     nlohmann::json upload(const Scene& scene, const Versions& versions, uint64_t id, const RenderSettings& s) {
         nlohmann::json u = {{"renderer", false}, {"geometry", false}, {"bvh", false},
                             {"materials", false}, {"lights", false}, {"camera", false}};
-        if (!renderer_ || id != uploaded_.sceneId || !sameSettings(s, uploaded_.settings)) {
+        if (!renderer_ || id != uploaded_.sceneId || s != uploaded_.settings) {
             renderer_.reset();  // its device memory goes first
             renderer_ = std::make_unique<Renderer>(*ctx_, scene, s);
             for (auto& [key, value] : u.items()) value = true;

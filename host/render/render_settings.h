@@ -76,6 +76,11 @@ struct RenderSettings {
     // objects, textures: host/render/device_policy.h); false: the full one.
     // Tests compare the two.
     bool fittedShader = true;
+
+    // A renderer built for one RenderSettings is reused only for equal ones
+    // (the Python module compares them as a whole: a field left out of the
+    // comparison once reused a renderer without its mask layer).
+    bool operator==(const RenderSettings&) const = default;
 };
 
 }  // namespace whitted

@@ -104,6 +104,41 @@ def test_material_edit_rebuilds_no_bvh(renderer, field, value):
     assert getattr(scene.objects[0], field) == value
 
 
+# Six AOV sets, each ordered pair of them rendered in turn by one renderer:
+# an Eulerian circuit of the complete directed graph on the sets (Hierholzer),
+# so 31 renders cover all 30 changes A -> B. Each render equals a fresh
+# renderer's render of B (a renderer once reused itself without the mask
+# layer and returned ids read past the pixel buffer).
+AOV_SETS = [("normal",), ("normal", "object_id"), ("object_id", "material_id"), ("depth", "diffuse"), "all", "none"]
+
+
+def every_ordered_pair(n):
+    unused = {a: [b for b in range(n) if b != a] for a in range(n)}
+    stack, circuit = [0], []
+    while stack:
+        if unused[stack[-1]]:
+            stack.append(unused[stack[-1]].pop())
+        else:
+            circuit.append(stack.pop())
+    return circuit[::-1]
+
+
+def test_aov_set_changes_equal_a_fresh_renderer():
+    scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
+    size = dict(width=32, height=24)
+    fresh = [whitted.Renderer().render(scene, aovs=aovs, **size) for aovs in AOV_SETS]
+    order = every_ordered_pair(len(AOV_SETS))
+    assert len(order) == 31 and {(a, b) for a, b in zip(order, order[1:])} == {
+        (a, b) for a in range(6) for b in range(6) if a != b}
+    reused = whitted.Renderer()
+    for step, k in enumerate(order):
+        result = reused.render(scene, aovs=AOV_SETS[k], **size)
+        assert sorted(result.aovs) == sorted(fresh[k].aovs), (step, AOV_SETS[k])
+        same_result(result, fresh[k])
+        if "object_id" in result.aovs:
+            assert set(np.unique(result.aovs["object_id"])) <= {0, 1, 2, 3, 0xFFFFFFFF}, AOV_SETS[k]
+
+
 def test_light_and_geometry_edits(renderer):
     scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
     renderer.render(scene, **SIZE)
