@@ -177,6 +177,16 @@ private:
     void parse() {
         std::error_code ec;
         if (!std::filesystem::exists(path_, ec)) fail("", "cannot read file: it does not exist");
+        // A .gltf is all JSON: refused by its size before it is read (a
+        // .glb's binary chunk may be large; its JSON chunk is checked below).
+        const uintmax_t fileSize = std::filesystem::file_size(path_, ec);
+        if (!ec && fileSize > kMaxGltfJsonBytes) {
+            char magic[4] = {};
+            std::ifstream(path_, std::ios::binary).read(magic, 4);
+            check(std::memcmp(magic, "glTF", 4) == 0, "",
+                  "is " + std::to_string(fileSize) + " bytes of JSON; whitted reads glTF JSON up to " +
+                      std::to_string(kMaxGltfJsonBytes) + " bytes (keep large buffers in .bin files or a .glb)");
+        }
         std::vector<unsigned char> bytes = readBytes(path_);
         std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
         // .glb: a 12-byte header, a JSON chunk, an optional BIN chunk.
@@ -187,12 +197,18 @@ private:
                 return w;
             };
             check(word(4) == 2, "", "is a binary glTF of version " + std::to_string(word(4)) + "; expected 2");
+            check(word(8) == bytes.size(), "",
+                  "is a binary glTF whose header gives its length as " + std::to_string(word(8)) + " bytes, but the file has " +
+                      std::to_string(bytes.size()));
             size_t at = 12;
             bool haveJson = false;
             while (at + 8 <= bytes.size()) {
                 uint32_t length = word(at), type = word(at + 4);
-                check(at + 8 + length <= bytes.size(), "", "has a chunk that runs past the end of the file");
+                check(size_t(length) <= bytes.size() - at - 8, "", "has a chunk that runs past the end of the file");
                 if (type == 0x4E4F534Au && !haveJson) {
+                    check(length <= kMaxGltfJsonBytes, "",
+                          "has a JSON chunk of " + std::to_string(length) + " bytes; whitted reads glTF JSON up to " +
+                              std::to_string(kMaxGltfJsonBytes) + " bytes");
                     text = std::string_view(reinterpret_cast<const char*>(bytes.data()) + at + 8, length);
                     haveJson = true;
                 } else if (type == 0x004E4942u && !glbBinary_) {
@@ -227,8 +243,8 @@ private:
         const Json& buffers = array(json_, "buffers", "/buffers");
         for (size_t i = 0; i < buffers.size(); ++i) {
             std::string at = "/buffers/" + std::to_string(i);
-            size_t length = size_t(number(buffers[i], "byteLength", at + "/byteLength", -1, 0, 1e15));
             check(member(buffers[i], "byteLength"), at, "has no byteLength");
+            size_t length = size_t(number(buffers[i], "byteLength", at + "/byteLength", 0, 0, 1e15));
             std::vector<unsigned char> data;
             if (const Json* uri = member(buffers[i], "uri")) {
                 check(uri->is_string(), at + "/uri", "must be a string");
@@ -251,14 +267,20 @@ private:
             v.offset = size_t(number(views[i], "byteOffset", at + "/byteOffset", 0, 0, 1e15));
             v.length = size_t(number(views[i], "byteLength", at + "/byteLength", 0, 0, 1e15));
             v.stride = size_t(number(views[i], "byteStride", at + "/byteStride", 0, 4, 252));
+            check(v.stride % 4 == 0, at + "/byteStride", "is " + std::to_string(v.stride) + "; it must be a multiple of 4");
             check(v.offset + v.length <= buffers_[size_t(v.buffer)].size(), at, "runs past the end of its buffer");
             views_.push_back(v);
         }
     }
 
     // An accessor's elements as doubles, `components` per element
-    // (normalised integers mapped to [0, 1] or [-1, 1]).
-    std::vector<double> accessor(int id, const std::vector<int>& componentCounts, const std::string& where) {
+    // (normalised integers mapped to [0, 1] or [-1, 1]). indices: the
+    // accessor of a primitive's indices, of unsigned integers only (glTF 2.0
+    // §5.24.3: UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT, not normalised).
+    // Its size is checked against its bufferView before anything is
+    // allocated, and every float it holds is finite.
+    std::vector<double> accessor(int id, const std::vector<int>& componentCounts, const std::string& where,
+                                 bool indices = false) {
         const Json& accessors = array(json_, "accessors", "/accessors");
         check(id >= 0 && size_t(id) < accessors.size(), where, "names accessor " + std::to_string(id) + ", which does not exist");
         const Json& a = accessors[size_t(id)];
@@ -276,15 +298,31 @@ private:
                                                                        : 0;
         check(size > 0, at + "/componentType", "is " + std::to_string(componentType) + ", not a glTF component type");
         bool normalized = member(a, "normalized") && (*member(a, "normalized")) == true;
+        if (indices)
+            check((componentType == 5121 || componentType == 5123 || componentType == 5125) && !normalized,
+                  at + "/componentType",
+                  "is " + std::to_string(componentType) + (normalized ? " normalized" : "") +
+                      "; indices must be UNSIGNED_BYTE (5121), UNSIGNED_SHORT (5123) or UNSIGNED_INT (5125)");
+        check(member(a, "count"), at, "has no count");
         size_t count = size_t(number(a, "count", at + "/count", 0, 1, 1e9));
         check(!member(a, "sparse"), at + "/sparse", "sparse accessors are not supported");
-        std::vector<double> out(count * size_t(n), 0.0);
         int viewId = index(a, "bufferView", at + "/bufferView", views_.size());
-        if (viewId < 0) return out;  // all zeros, as the specification says
+        if (viewId < 0) {  // all zeros, as the specification says; of use only to sparse accessors
+            check(count <= kMaxGltfZeroAccessorCount, at + "/count",
+                  "is " + std::to_string(count) + " for an accessor without a bufferView; whitted reads such an "
+                  "accessor (all zeros) up to " + std::to_string(kMaxGltfZeroAccessorCount) + " elements");
+            return std::vector<double>(count * size_t(n), 0.0);
+        }
         const View& view = views_[size_t(viewId)];
         size_t offset = size_t(number(a, "byteOffset", at + "/byteOffset", 0, 0, 1e15));
         size_t element = size * size_t(n), stride = view.stride ? view.stride : element;
-        check(offset + (count - 1) * stride + element <= view.length, at, "runs past the end of its bufferView");
+        check(stride >= element, at, "has elements of " + std::to_string(element) + " bytes, more than its bufferView's byteStride " +
+                                         std::to_string(stride));
+        check(offset % size == 0, at + "/byteOffset", "is not a multiple of the component size " + std::to_string(size));
+        check(offset <= view.length && count - 1 <= (view.length - offset) / stride &&
+                  offset + (count - 1) * stride + element <= view.length,
+              at, "runs past the end of its bufferView");
+        std::vector<double> out(count * size_t(n), 0.0);
         const unsigned char* base = buffers_[size_t(view.buffer)].data() + view.offset + offset;
         for (size_t i = 0; i < count; ++i)
             for (int c = 0; c < n; ++c) {
@@ -296,7 +334,13 @@ private:
                     case 5122: { int16_t x; std::memcpy(&x, p, 2); v = normalized ? std::max(x / 32767.0, -1.0) : x; break; }
                     case 5123: { uint16_t x; std::memcpy(&x, p, 2); v = normalized ? x / 65535.0 : x; break; }
                     case 5125: { uint32_t x; std::memcpy(&x, p, 4); v = x; break; }
-                    default: { float x; std::memcpy(&x, p, 4); v = x; break; }
+                    default: {
+                        float x;
+                        std::memcpy(&x, p, 4);
+                        check(std::isfinite(x), at, "holds a value that is not finite (element " + std::to_string(i) + ")");
+                        v = x;
+                        break;
+                    }
                 }
                 out[i * size_t(n) + size_t(c)] = v;
             }
@@ -443,7 +487,7 @@ private:
                 std::vector<uint32_t> order;
                 if (member(prim, "indices")) {
                     int id = index(prim, "indices", p + "/indices", 1u << 30);
-                    for (double x : accessor(id, {1}, p + "/indices")) {
+                    for (double x : accessor(id, {1}, p + "/indices", true)) {
                         check(x < double(count), p + "/indices", "has an index beyond the vertices");
                         order.push_back(uint32_t(x));
                     }
@@ -484,6 +528,13 @@ private:
                 camera.yfov = number(*p, "yfov", at + "/perspective/yfov", 0, 1e-9, 3.14159265358979);
                 check(member(*p, "yfov"), at + "/perspective", "has no yfov");
                 camera.aspectRatio = number(*p, "aspectRatio", at + "/perspective/aspectRatio", 0, 1e-6, 1e6);
+                // znear > 0 and zfar > znear (glTF 2.0 §5.13); whitted's rays start at the eye and run to
+                // infinity, so the planes are checked and not used.
+                check(member(*p, "znear"), at + "/perspective", "has no znear");
+                double znear = number(*p, "znear", at + "/perspective/znear", 0, 0, 1e300);
+                check(znear > 0, at + "/perspective/znear", "is 0; it must be > 0");
+                double zfar = number(*p, "zfar", at + "/perspective/zfar", 1e300, 0, 1e300);
+                check(zfar > znear, at + "/perspective/zfar", "is " + show(zfar) + "; it must be > znear, " + show(znear));
             } else if (type == "orthographic") {
                 const Json* o = member(c, "orthographic");
                 check(o != nullptr, at, "is orthographic and has no \"orthographic\"");
@@ -491,6 +542,10 @@ private:
                 camera.xmag = number(*o, "xmag", at + "/orthographic/xmag", 0, 1e-9, 1e12);
                 camera.ymag = number(*o, "ymag", at + "/orthographic/ymag", 0, 1e-9, 1e12);
                 check(member(*o, "xmag") && member(*o, "ymag"), at + "/orthographic", "needs xmag and ymag");
+                check(member(*o, "znear") && member(*o, "zfar"), at + "/orthographic", "needs znear and zfar");
+                double znear = number(*o, "znear", at + "/orthographic/znear", 0, 0, 1e300);
+                double zfar = number(*o, "zfar", at + "/orthographic/zfar", 0, 0, 1e300);
+                check(zfar > znear, at + "/orthographic/zfar", "is " + show(zfar) + "; it must be > znear, " + show(znear));
             } else {
                 fail(at + "/type", "is \"" + type + "\"; expected perspective or orthographic");
             }
@@ -531,6 +586,8 @@ private:
 
     void readNodes() {
         const Json& nodes = array(json_, "nodes", "/nodes");
+        check(nodes.size() <= kMaxGltfNodes, "/nodes",
+              "has " + std::to_string(nodes.size()) + " nodes; whitted reads up to " + std::to_string(kMaxGltfNodes));
         for (size_t i = 0; i < nodes.size(); ++i) {
             const Json& n = nodes[i];
             std::string at = "/nodes/" + std::to_string(i);
@@ -570,25 +627,61 @@ private:
                       "makes node " + std::to_string(c) + " a child twice (a node has at most one parent)");
                 parent[size_t(c)] = int(i);
             }
-        for (size_t i = 0; i < parent.size(); ++i) {
-            size_t steps = 0;
-            for (int p = parent[i]; p >= 0; p = parent[size_t(p)])
-                check(++steps <= parent.size(), "/nodes/" + std::to_string(i), "is its own ancestor");
-        }
+        checkTree(parent);
         const Json& scenes = array(json_, "scenes", "/scenes");
         int scene = index(json_, "scene", "/scene", scenes.size());
         if (scene < 0 && !scenes.empty()) scene = 0;
         if (scene >= 0) {
             std::string at = "/scenes/" + std::to_string(scene) + "/nodes";
+            std::vector<bool> listed(nodes.size(), false);
             for (const Json& r : array(scenes[size_t(scene)], "nodes", at)) {
                 check(r.is_number_integer() && r.get<int64_t>() >= 0 && size_t(r.get<int64_t>()) < nodes.size() &&
                           parent[size_t(r.get<int64_t>())] < 0,
                       at, "has " + r.dump() + ", not the index of a root node");
+                check(!listed[size_t(r.get<int64_t>())], at, "lists root node " + r.dump() + " twice");
+                listed[size_t(r.get<int64_t>())] = true;
                 out_.sceneRoots.push_back(int(r.get<int64_t>()));
             }
         } else {  // no scene: every root node
             for (size_t i = 0; i < parent.size(); ++i)
                 if (parent[i] < 0) out_.sceneRoots.push_back(int(i));
+        }
+    }
+
+    // The nodes form a forest no deeper than kMaxGltfNodeDepth, in O(nodes):
+    // with at most one parent each (checked by the caller), every node is
+    // reached from a root unless its chain of parents ends in a cycle. One
+    // iterative walk from the roots finds each node's depth; a node it did
+    // not reach leads up to a cycle, whose first node met is reported.
+    void checkTree(const std::vector<int>& parent) const {
+        const size_t n = parent.size();
+        std::vector<uint32_t> depth(n, 0);  // 0: not reached; else the level, roots at 1
+        std::vector<int> open;
+        for (size_t i = 0; i < n; ++i)
+            if (parent[i] < 0) {
+                depth[i] = 1;
+                open.push_back(int(i));
+            }
+        while (!open.empty()) {
+            const int i = open.back();
+            open.pop_back();
+            check(depth[size_t(i)] <= kMaxGltfNodeDepth, "/nodes/" + std::to_string(i),
+                  "is more than " + std::to_string(kMaxGltfNodeDepth) +
+                      " levels deep in the node tree; whitted reads trees up to that depth");
+            for (int c : out_.nodes[size_t(i)].children) {
+                depth[size_t(c)] = depth[size_t(i)] + 1;
+                open.push_back(c);
+            }
+        }
+        for (size_t i = 0; i < n; ++i) {
+            if (depth[i] != 0) continue;
+            std::vector<bool> seen(n, false);
+            size_t p = i;
+            while (!seen[p]) {
+                seen[p] = true;
+                p = size_t(parent[p]);
+            }
+            fail("/nodes/" + std::to_string(p), "is its own ancestor (the node tree has a cycle)");
         }
     }
 

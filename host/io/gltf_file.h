@@ -92,13 +92,26 @@ struct GltfNode {
 
 struct GltfFile {
     std::vector<GltfNode> nodes;
-    std::vector<int> sceneRoots;  // the nodes of the file's scene ("scene", else the first)
+    std::vector<int> sceneRoots;  // the nodes of the file's scene ("scene", else the first), each once
     std::vector<GltfMesh> meshes;
     std::vector<GltfCamera> cameras;
     std::vector<GltfLight> lights;
     std::vector<GltfMaterial> materials;
     std::vector<std::string> warnings;  // "FILE: JSON-PATH: ..." for what is read but not used
 };
+
+// What a glTF file may hold (scenes/README.md "Limits"), each checked before
+// the work or memory it bounds: the JSON text (a .gltf file's size, a .glb's
+// JSON chunk) before it is parsed, the node count and the node tree's depth
+// before the tree is walked. Walks of the tree are iterative, never
+// recursive, so depth costs no stack.
+inline constexpr size_t kMaxGltfJsonBytes = size_t(64) << 20;
+inline constexpr size_t kMaxGltfNodes = size_t(1) << 20;
+inline constexpr size_t kMaxGltfNodeDepth = 1024;
+// An accessor without a bufferView is all zeros (of use only to sparse
+// accessors, which whitted does not read): its count is bounded so that a
+// tiny file cannot ask for gigabytes of zeros.
+inline constexpr size_t kMaxGltfZeroAccessorCount = size_t(1) << 16;
 
 // Reads a .gltf or .glb file. Throws GltfFileError.
 GltfFile readGltfFile(const std::filesystem::path& path);

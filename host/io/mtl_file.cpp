@@ -26,7 +26,7 @@ public:
 
     MtlFile read() {
         std::ifstream in(path_);
-        if (!in) throw MtlFileError(file_ + ": cannot read file: it does not exist or is not readable");
+        if (!in) throw MtlFileError(file_, 0, "cannot read file: it does not exist or is not readable");
         std::string text;
         int line = 0;
         MtlMaterial* m = nullptr;
@@ -89,7 +89,7 @@ public:
 
 private:
     [[noreturn]] void fail(const std::string& message) const {
-        throw MtlFileError(file_ + ":" + std::to_string(line_) + ": " + message);
+        throw MtlFileError(file_, line_, message);
     }
     double parse(const std::string& key, const std::string& word) const {
         try {

@@ -21,9 +21,16 @@ namespace whitted {
 struct TextureData;  // io/texture.h
 
 // A library that cannot be used: what() is "FILE:LINE: reason".
+// file, line (0: the file as a whole) and reason are also kept apart, so a
+// caller that words errors its own way need not parse what().
 class MtlFileError : public std::runtime_error {
 public:
-    using std::runtime_error::runtime_error;
+    MtlFileError(std::string file, int line, std::string reason)
+        : std::runtime_error(file + (line > 0 ? ":" + std::to_string(line) : std::string()) + ": " + reason),
+          file(std::move(file)), line(line), reason(std::move(reason)) {}
+    std::string file;
+    int line = 0;
+    std::string reason;
 };
 
 struct MtlMaterial {

@@ -10,7 +10,6 @@
 #include <cctype>
 #include <cmath>
 #include <fstream>
-#include <functional>
 #include <map>
 
 namespace whitted {
@@ -172,9 +171,10 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
     const std::string where = path.string();
     const std::filesystem::path absolutePath = std::filesystem::absolute(path).lexically_normal();
 
-    std::function<void(int, const glm::dmat4&)> visit = [&](int index, const glm::dmat4& parent) {
+    // One node with its world transform; the tree is walked below without
+    // recursion (the reader bounds its depth, io/gltf_file.h).
+    auto visit = [&](int index, const glm::dmat4& world) {
         const GltfNode& node = file.nodes[size_t(index)];
-        const glm::dmat4 world = parent * node.local;
         const std::string nodeName = node.name.empty() ? "node " + std::to_string(index) : node.name;
         for (int c = 0; c < 4; ++c)
             for (int k = 0; k < 4; ++k)
@@ -240,9 +240,20 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
                 scene.objects.push_back(std::move(object));
             }
         }
-        for (int child : node.children) visit(child, world);
     };
-    for (int root : file.sceneRoots) visit(root, glm::dmat4(1.0));
+    // Depth first, each node before its children and children in order, as
+    // the file lists them (the order objects are numbered in).
+    std::vector<std::pair<int, glm::dmat4>> open;
+    for (auto root = file.sceneRoots.rbegin(); root != file.sceneRoots.rend(); ++root)
+        open.emplace_back(*root, glm::dmat4(1.0) * file.nodes[size_t(*root)].local);
+    while (!open.empty()) {
+        const auto [index, world] = open.back();
+        open.pop_back();
+        visit(index, world);
+        const std::vector<int>& children = file.nodes[size_t(index)].children;
+        for (auto c = children.rbegin(); c != children.rend(); ++c)
+            open.emplace_back(*c, world * file.nodes[size_t(*c)].local);
+    }
     if (scene.objects.empty()) throw SceneError(where, 0, "has no triangles in its scene");
     return out;
 }
@@ -330,11 +341,7 @@ std::map<std::string, Material> objMtlMaterials(const std::filesystem::path& pat
         try {
             mtl = readMtlFile(library);
         } catch (const MtlFileError& e) {
-            std::string text = e.what();
-            size_t colon = text.find(':', library.string().size());
-            int line = colon != std::string::npos ? std::atoi(text.c_str() + colon + 1) : 0;
-            size_t message = text.find(": ", colon == std::string::npos ? 0 : colon);
-            throw SceneError(library.string(), line, message == std::string::npos ? text : text.substr(message + 2));
+            throw SceneError(e.file, e.line, e.reason);
         }
         warnings.insert(warnings.end(), mtl.warnings.begin(), mtl.warnings.end());
         for (const MtlMaterial& m : mtl.materials) {

@@ -1,0 +1,271 @@
+// glTF and GLB files that are wrong in one way each (scenes/README.md
+// "Limits"): refused with the file and the JSON path, never a crash, an
+// unbounded walk or an allocation the file cannot back; node trees at the
+// depth limit still load, in the file's order.
+#include "io/gltf_file.h"
+#include "scene/scene.h"
+#include "scene/scene_error.h"
+#include "scene/authored_scene.h"
+#include "test_support.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstring>
+#include <fstream>
+
+namespace whitted::test {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+fs::path scratch(const std::string& name) { return freshOutputDir("gltf_hardening", name); }
+
+// One square (two triangles, positions then uint16 indices) in a buffer of
+// its own bytes, and a glTF document using it.
+std::vector<unsigned char> squareBytes() {
+    std::vector<float> positions = {-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0};
+    std::vector<uint16_t> indices = {0, 1, 2, 0, 2, 3};
+    std::vector<unsigned char> bytes(positions.size() * 4 + indices.size() * 2);
+    std::memcpy(bytes.data(), positions.data(), positions.size() * 4);
+    std::memcpy(bytes.data() + positions.size() * 4, indices.data(), indices.size() * 2);
+    return bytes;
+}
+
+Json squareDocument(bool embedded = true) {
+    std::vector<unsigned char> bytes = squareBytes();
+    Json j;
+    j["asset"] = {{"version", "2.0"}};
+    Json buffer = {{"byteLength", bytes.size()}};
+    if (embedded) buffer["uri"] = "data:application/octet-stream;base64," + base64(bytes);
+    j["buffers"] = Json::array({buffer});
+    j["bufferViews"] = Json::array({{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 48}},
+                                    {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 12}}});
+    j["accessors"] = Json::array({{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
+                                  {{"bufferView", 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}});
+    j["meshes"] = Json::array({{{"primitives", Json::array({{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}})}}});
+    j["nodes"] = Json::array({{{"mesh", 0}}});
+    return j;
+}
+
+fs::path writeJson(const fs::path& path, const Json& j) {
+    std::ofstream(path) << j.dump();
+    return path;
+}
+
+// A .glb of `json` and `bin` (glTF 2.0 §4.4: 12-byte header, chunks padded
+// to 4 bytes, JSON with spaces, BIN with zeros).
+std::vector<unsigned char> glbBytes(const Json& json, std::vector<unsigned char> bin) {
+    std::string text = json.dump();
+    while (text.size() % 4) text += ' ';
+    while (bin.size() % 4) bin.push_back(0);
+    std::vector<unsigned char> out;
+    auto word = [&](uint32_t w) {
+        for (int k = 0; k < 4; ++k) out.push_back((unsigned char)(w >> (8 * k)));
+    };
+    const uint32_t total = uint32_t(12 + 8 + text.size() + 8 + bin.size());
+    out.insert(out.end(), {'g', 'l', 'T', 'F'});
+    word(2);
+    word(total);
+    word(uint32_t(text.size()));
+    word(0x4E4F534Au);
+    out.insert(out.end(), text.begin(), text.end());
+    word(uint32_t(bin.size()));
+    word(0x004E4942u);
+    out.insert(out.end(), bin.begin(), bin.end());
+    return out;
+}
+
+fs::path writeBytes(const fs::path& path, const std::vector<unsigned char>& bytes) {
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), long(bytes.size()));
+    return path;
+}
+
+// The loader's message for `file`, or "" when it loads.
+std::string refusal(const fs::path& file) {
+    try {
+        loadGltfScene(file);
+    } catch (const SceneError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// A chain of `depth` nodes, each the only child of the one before, the
+// last holding the square, each moving it by 0.001 along x.
+Json chain(size_t depth) {
+    Json j = squareDocument();
+    Json nodes = Json::array();
+    for (size_t i = 0; i < depth; ++i) {
+        Json n = {{"translation", {0.001, 0, 0}}};
+        if (i + 1 < depth) n["children"] = Json::array({i + 1});
+        else n["mesh"] = 0;
+        nodes.push_back(std::move(n));
+    }
+    j["nodes"] = std::move(nodes);
+    return j;
+}
+
+// A chain at the depth limit loads, its transform the product of every
+// level's; one level more is refused at the node past the limit, as are
+// chains of 5,000 and 200,000 (the walk that once recursed per level and
+// crashed at 5,000).
+TEST(GltfHardening, NodeChainsUpToTheDepthLimitLoadDeeperAreRefused) {
+    fs::path dir = scratch("chains");
+    Scene scene = loadGltfScene(writeJson(dir / "limit.gltf", chain(kMaxGltfNodeDepth))).scene;
+    ASSERT_EQ(scene.objects.size(), 1u);
+    const auto& mesh = std::get<Mesh>(scene.objects[0].shape);
+    ASSERT_FALSE(mesh.triangles.empty());
+    EXPECT_NEAR(mesh.triangles[0].v0.x, -1 + 0.001 * double(kMaxGltfNodeDepth), 1e-9);
+    for (size_t depth : {kMaxGltfNodeDepth + 1, size_t(5000), size_t(200000)}) {
+        fs::path file = writeJson(dir / ("chain" + std::to_string(depth) + ".gltf"), chain(depth));
+        EXPECT_EQ(refusal(file), file.string() + ": /nodes/" + std::to_string(kMaxGltfNodeDepth) + ": is more than " +
+                                     std::to_string(kMaxGltfNodeDepth) +
+                                     " levels deep in the node tree; whitted reads trees up to that depth")
+            << depth;
+    }
+}
+
+// A .gltf larger than the JSON limit is refused by its size before it is
+// read (a 10-million-node chain is about 190 MB of JSON).
+TEST(GltfHardening, JsonBeyondItsLimitIsRefusedUnread) {
+    fs::path file = writeJson(scratch("size") / "huge.gltf", squareDocument());
+    fs::resize_file(file, kMaxGltfJsonBytes + 1);  // sparse: no 64 MiB written
+    EXPECT_EQ(refusal(file), file.string() + ": is " + std::to_string(kMaxGltfJsonBytes + 1) +
+                                 " bytes of JSON; whitted reads glTF JSON up to " + std::to_string(kMaxGltfJsonBytes) +
+                                 " bytes (keep large buffers in .bin files or a .glb)");
+}
+
+TEST(GltfHardening, CyclesDuplicateRootsAndSecondParentsAreRefused) {
+    fs::path dir = scratch("trees");
+    Json j = squareDocument();
+    // 0 is a root; 1 -> 2 -> 3 -> 1 is a cycle no root reaches.
+    j["nodes"] = Json::array({{{"mesh", 0}}, {{"children", {2}}}, {{"children", {3}}}, {{"children", {1}}}});
+    fs::path cycle = writeJson(dir / "cycle.gltf", j);
+    EXPECT_EQ(refusal(cycle), cycle.string() + ": /nodes/1: is its own ancestor (the node tree has a cycle)");
+
+    j = squareDocument();
+    j["nodes"] = Json::array({{{"mesh", 0}}, {{"mesh", 0}}});
+    j["scenes"] = Json::array({{{"nodes", {0, 1, 0}}}});
+    fs::path twice = writeJson(dir / "roots.gltf", j);
+    EXPECT_EQ(refusal(twice), twice.string() + ": /scenes/0/nodes: lists root node 0 twice");
+
+    j["nodes"] = Json::array({{{"children", {2}}}, {{"children", {2}}}, {{"mesh", 0}}});
+    j["scenes"] = Json::array({{{"nodes", {0, 1}}}});
+    fs::path parents = writeJson(dir / "parents.gltf", j);
+    EXPECT_EQ(refusal(parents),
+              parents.string() + ": /nodes/1/children: makes node 2 a child twice (a node has at most one parent)");
+}
+
+// Index accessors of signed or float types (where -1 once passed the bound
+// check and became a vertex index), and normalised ones, are refused.
+TEST(GltfHardening, IndexAccessorsAreUnsignedIntegers) {
+    fs::path dir = scratch("indices");
+    for (auto [type, normalized] : {std::pair{5120, false}, {5122, false}, {5126, false}, {5123, true}}) {
+        Json j = squareDocument();
+        j["accessors"][1]["componentType"] = type;
+        if (normalized) j["accessors"][1]["normalized"] = true;
+        fs::path file = writeJson(dir / ("type" + std::to_string(type) + ".gltf"), j);
+        EXPECT_EQ(refusal(file), file.string() + ": /accessors/1/componentType: is " + std::to_string(type) +
+                                     (normalized ? " normalized" : "") +
+                                     "; indices must be UNSIGNED_BYTE (5121), UNSIGNED_SHORT (5123) or UNSIGNED_INT (5125)");
+    }
+}
+
+// Accessors and views whose sizes the file cannot back are refused before
+// anything is allocated for them.
+TEST(GltfHardening, AccessorAndViewSizesAreCheckedFirst) {
+    fs::path dir = scratch("sizes");
+    auto refused = [&](const std::string& name, const Json& j) { return refusal(writeJson(dir / name, j)); };
+
+    Json j = squareDocument();
+    j["accessors"][0]["count"] = 1000000000;  // 24 GB of doubles, had it been allocated
+    EXPECT_EQ(refused("count.gltf", j), (dir / "count.gltf").string() + ": /accessors/0: runs past the end of its bufferView");
+
+    j = squareDocument();
+    j["accessors"][0].erase("bufferView");
+    j["accessors"][0]["count"] = 1000000000;
+    EXPECT_EQ(refused("zeros.gltf", j),
+              (dir / "zeros.gltf").string() + ": /accessors/0/count: is 1000000000 for an accessor without a bufferView; "
+                                              "whitted reads such an accessor (all zeros) up to 65536 elements");
+
+    j = squareDocument();
+    j["buffers"][0].erase("byteLength");
+    EXPECT_EQ(refused("length.gltf", j), (dir / "length.gltf").string() + ": /buffers/0: has no byteLength");
+
+    j = squareDocument();
+    j["bufferViews"][0]["byteStride"] = 6;
+    EXPECT_EQ(refused("stride6.gltf", j),
+              (dir / "stride6.gltf").string() + ": /bufferViews/0/byteStride: is 6; it must be a multiple of 4");
+    j["bufferViews"][0]["byteStride"] = 8;  // a VEC3 of floats is 12 bytes
+    EXPECT_EQ(refused("stride8.gltf", j), (dir / "stride8.gltf").string() +
+                                              ": /accessors/0: has elements of 12 bytes, more than its bufferView's "
+                                              "byteStride 8");
+
+    // A NaN vertex coordinate in the buffer.
+    std::vector<unsigned char> bytes = squareBytes();
+    float nan = std::nanf("");
+    std::memcpy(bytes.data() + 4, &nan, 4);
+    j = squareDocument();
+    j["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(bytes);
+    EXPECT_EQ(refused("nan.gltf", j),
+              (dir / "nan.gltf").string() + ": /accessors/0: holds a value that is not finite (element 0)");
+}
+
+TEST(GltfHardening, CameraPlanesFollowTheSpecification) {
+    fs::path dir = scratch("cameras");
+    auto withCamera = [&](const std::string& name, const Json& camera) {
+        Json j = squareDocument();
+        j["cameras"] = Json::array({camera});
+        j["nodes"] = Json::array({{{"mesh", 0}}, {{"camera", 0}, {"translation", {0, 0, 5}}}});
+        return refusal(writeJson(dir / name, j));
+    };
+    auto at = [&](const std::string& name) { return (dir / name).string() + ": /cameras/0/"; };
+    Json p = {{"type", "perspective"}, {"perspective", {{"yfov", 0.6}, {"znear", -1}}}};
+    EXPECT_EQ(withCamera("znear.gltf", p), at("znear.gltf") + "perspective/znear: is -1; it must be in [0, 1e+300]");
+    p["perspective"]["znear"] = 0;
+    EXPECT_EQ(withCamera("zero.gltf", p), at("zero.gltf") + "perspective/znear: is 0; it must be > 0");
+    p["perspective"]["znear"] = 2;
+    p["perspective"]["zfar"] = 1;
+    EXPECT_EQ(withCamera("zfar.gltf", p), at("zfar.gltf") + "perspective/zfar: is 1; it must be > znear, 2");
+    p["perspective"].erase("znear");
+    EXPECT_EQ(withCamera("noznear.gltf", p), (dir / "noznear.gltf").string() + ": /cameras/0/perspective: has no znear");
+    Json o = {{"type", "orthographic"}, {"orthographic", {{"xmag", 0}, {"ymag", 1}, {"znear", 0}, {"zfar", 10}}}};
+    EXPECT_EQ(withCamera("xmag.gltf", o), at("xmag.gltf") + "orthographic/xmag: is 0; it must be in [1e-09, 1e+12]");
+    o["orthographic"]["xmag"] = 1;
+    o["orthographic"]["zfar"] = 0;
+    EXPECT_EQ(withCamera("ortho.gltf", o), at("ortho.gltf") + "orthographic/zfar: is 0; it must be > znear, 0");
+    o["orthographic"]["zfar"] = 10;
+    EXPECT_EQ(withCamera("good.gltf", o), "");
+}
+
+// A .glb whose header length is not the file's, and the file cut at every
+// chunk boundary and inside each chunk: refused, never read past its end.
+TEST(GltfHardening, GlbLengthsAndTruncations) {
+    fs::path dir = scratch("glb");
+    const std::vector<unsigned char> good = glbBytes(squareDocument(false), squareBytes());
+    EXPECT_EQ(refusal(writeBytes(dir / "good.glb", good)), "");
+
+    std::vector<unsigned char> longer = good;
+    const uint32_t claimed = uint32_t(good.size() + 1000);
+    std::memcpy(longer.data() + 8, &claimed, 4);
+    fs::path header = writeBytes(dir / "header.glb", longer);
+    EXPECT_EQ(refusal(header), header.string() + ": is a binary glTF whose header gives its length as " +
+                                   std::to_string(claimed) + " bytes, but the file has " + std::to_string(good.size()));
+
+    uint32_t jsonLength = 0;
+    std::memcpy(&jsonLength, good.data() + 12, 4);
+    const size_t binStart = 20 + jsonLength;
+    for (size_t cut : {size_t(12), size_t(16), size_t(20), size_t(20 + jsonLength / 2), binStart, binStart + 4,
+                       binStart + 8, good.size() - 4}) {
+        std::vector<unsigned char> part(good.begin(), good.begin() + long(cut));
+        const uint32_t length = uint32_t(cut);  // the header agrees with the cut file: only the chunks are wrong
+        std::memcpy(part.data() + 8, &length, 4);
+        fs::path file = writeBytes(dir / ("cut" + std::to_string(cut) + ".glb"), part);
+        std::string message = refusal(file);
+        EXPECT_EQ(message.rfind(file.string() + ": ", 0), 0u) << cut << ": " << message;
+    }
+}
+
+}  // namespace
+}  // namespace whitted::test
