@@ -50,6 +50,20 @@ glm::dvec3 checked(const std::string& field, const glm::dvec3& v, const Range& r
             refuse(field, "3 numbers each " + r.describe(), "(" + shown(v.x) + ", " + shown(v.y) + ", " + shown(v.z) + ")");
     return v;
 }
+// Sets one of the camera's frame vectors, refusing (and undoing) a value
+// that leaves it without an image frame, in the XML loader's terms
+// (scene/scene.h cameraFrameProblem).
+void setCameraFrame(Camera& camera, glm::dvec3 Camera::*member, const glm::dvec3& value, const std::string& field) {
+    const glm::dvec3 was = camera.*member;
+    camera.*member = value;
+    const CameraFrameProblem frame = cameraFrameProblem(camera);
+    if (frame == CameraFrameProblem::None) return;
+    camera.*member = was;
+    throw py::value_error(field + ": " +
+                          (frame == CameraFrameProblem::EyeAtWindow ? "Camera.position and Camera.look_at would coincide"
+                                                             : "Camera.up would be parallel to the viewing direction"));
+}
+
 glm::dvec3 unit(const std::string& field, const glm::dvec3& v) {
     glm::dvec3 f = checked(field, v, xml::kAnyValue);
     if (glm::length(f) < 1e-12) refuse(field, "a non-zero direction", "(0, 0, 0)");
@@ -157,21 +171,23 @@ void addSceneApi(py::module_& m) {
         .def_property(
             "position", [](const CameraView& v) { return toTuple(v.c().eye); },
             [](const CameraView& v, py::object x) {
-                v.c().eye = checked("Camera.position", toVec(x, "Camera.position"), xml::kAnyValue);
+                setCameraFrame(v.c(), &Camera::eye, checked("Camera.position", toVec(x, "Camera.position"), xml::kAnyValue),
+                               "Camera.position");
                 v.edited();
             },
             "the eye")
         .def_property(
             "look_at", [](const CameraView& v) { return toTuple(v.c().windowCenter); },
             [](const CameraView& v, py::object x) {
-                v.c().windowCenter = checked("Camera.look_at", toVec(x, "Camera.look_at"), xml::kAnyValue);
+                setCameraFrame(v.c(), &Camera::windowCenter,
+                               checked("Camera.look_at", toVec(x, "Camera.look_at"), xml::kAnyValue), "Camera.look_at");
                 v.edited();
             },
             "the point the camera looks at (the image plane's centre)")
         .def_property(
             "up", [](const CameraView& v) { return toTuple(v.c().up); },
             [](const CameraView& v, py::object x) {
-                v.c().up = unit("Camera.up", toVec(x, "Camera.up"));
+                setCameraFrame(v.c(), &Camera::up, unit("Camera.up", toVec(x, "Camera.up")), "Camera.up");
                 v.edited();
             },
             "the up direction (any length but 0)")
@@ -197,11 +213,24 @@ void addSceneApi(py::module_& m) {
             },
             "image height in pixels (the render's default)")
         .def_property(
-            "projection", [](const CameraView&) { return std::string("perspective"); },
-            [](const CameraView&, const std::string& p) {
-                if (p != "perspective") refuse("Camera.projection", "'perspective' (the only projection)", "'" + p + "'");
+            "projection",
+            [](const CameraView& v) {
+                return std::string(v.c().projection == Camera::Projection::Orthographic ? "orthographic" : "perspective");
             },
-            "'perspective' (the only one)")
+            [](const CameraView& v, const std::string& p) {
+                if (p != "perspective" && p != "orthographic")
+                    refuse("Camera.projection", "'perspective' or 'orthographic'", "'" + p + "'");
+                v.c().projection = p == "orthographic" ? Camera::Projection::Orthographic : Camera::Projection::Perspective;
+                v.edited();
+            },
+            "'perspective' (fov) or 'orthographic' (window_height), as <projection>")
+        .def_property(
+            "window_height", [](const CameraView& v) { return v.c().windowHeight; },
+            [](const CameraView& v, double x) {
+                v.c().windowHeight = checked("Camera.window_height", x, xml::kPositive);
+                v.edited();
+            },
+            "an orthographic camera's window height in scene units (<window_height>)")
         .def("__repr__", [](const CameraView& v) {
             return "Camera(position=" + py::repr(toTuple(v.c().eye)).cast<std::string>() +
                    ", look_at=" + py::repr(toTuple(v.c().windowCenter)).cast<std::string>() +

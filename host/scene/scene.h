@@ -43,6 +43,12 @@ struct Camera {
     int height = 480;
 };
 
+// Whether a camera has an image frame: its eye and window centre apart, its
+// up not along the view. The XML loader and the Python module refuse what
+// this says, each in its own words (device rays would be NaN).
+enum class CameraFrameProblem { None, EyeAtWindow, UpAlongView };
+CameraFrameProblem cameraFrameProblem(const Camera& camera);
+
 // A light (scenes/README.md "Scene files"): the seed's point light, and the
 // spot and directional lights of glTF's KHR_lights_punctual and POV-Ray.
 // What arrives at a point at distance d is color * intensity, divided by d^2

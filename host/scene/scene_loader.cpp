@@ -28,8 +28,6 @@ using namespace xml;
 
 // The format's limits (scenes/README.md "Scene files") are the XML reader's
 // (scene/xml_reader.h), the image side gpu::kMaxImageSide and these.
-// |cross(a, b)| of unit vectors below this counts as parallel.
-constexpr double kParallelTolerance = 1e-6;
 
 // ---- Value ranges ------------------------------------------------------------------
 
@@ -39,12 +37,6 @@ constexpr Range kFovRange{0, 180, true, true};
 // A spot's cone: 0 <= inner < outer <= 90 degrees.
 constexpr Range kInnerAngleRange{0, 90, false, true};
 constexpr Range kOuterAngleRange{0, 90, true, false};
-
-// ---- Geometry checks -------------------------------------------------------------
-
-bool parallel(const glm::dvec3& unitA, const glm::dvec3& unitB) {
-    return glm::length(glm::cross(unitA, unitB)) < kParallelTolerance;
-}
 
 // ---- The schema ----------------------------------------------------------------------
 
@@ -136,16 +128,16 @@ private:
         Camera camera;
         camera.eye = vector(diag_, c.required("position"));
         camera.windowCenter = vector(diag_, c.required("window_position"));
-        glm::dvec3 forward = camera.windowCenter - camera.eye;
-        double distance = glm::length(forward);
-        if (!(distance > kMinLength)) diag_.fail(e, "camera <position> and <window_position> coincide");
-        forward /= distance;
+        if (cameraFrameProblem(camera) == CameraFrameProblem::EyeAtWindow)
+            diag_.fail(e, "camera <position> and <window_position> coincide");
+        const double distance = glm::length(camera.windowCenter - camera.eye);
 
         // The image frame needs an up that is not along the view.
         if (const XMLElement* up = c.optional("up")) {
             camera.up = direction(diag_, up);
-            if (parallel(forward, camera.up)) diag_.fail(up, "camera <up> is parallel to the viewing direction");
-        } else if (parallel(forward, camera.up)) {
+            if (cameraFrameProblem(camera) == CameraFrameProblem::UpAlongView)
+                diag_.fail(up, "camera <up> is parallel to the viewing direction");
+        } else if (cameraFrameProblem(camera) == CameraFrameProblem::UpAlongView) {
             diag_.fail(
                 e, "camera looks along the default <up> (0, 1, 0); give an <up> not parallel to the viewing direction");
         }

@@ -201,7 +201,9 @@ def test_bad_options_raise_value_error(renderer, options, words):
     ("object", "ior", 50, r"Object\.ior"), ("object", "diffuse_color", (2, 0, 0), r"Object\.diffuse_color"),
     ("object", "radius", -1, r"Object\.radius"), ("object", "shininess", -3, r"Object\.shininess"),
     ("camera", "fov", 0, r"Camera\.fov"), ("camera", "fov", 180, r"Camera\.fov"),
-    ("camera", "width", 0, r"Camera\.width"), ("camera", "projection", "orthographic", r"Camera\.projection"),
+    ("camera", "width", 0, r"Camera\.width"),
+    ("camera", "projection", "fisheye", r"Camera\.projection: must be 'perspective' or 'orthographic', got 'fisheye'"),
+    ("camera", "window_height", 0, r"Camera\.window_height"),
     ("camera", "up", (0, 0, 0), r"Camera\.up"), ("light", "intensity", -1, r"Light\.intensity"),
 ])
 def test_bad_field_values_raise_value_error(target, field, value, words):
@@ -211,6 +213,37 @@ def test_bad_field_values_raise_value_error(target, field, value, words):
     with pytest.raises(ValueError, match=words):
         setattr(obj, field, value)
     assert getattr(obj, field) == before
+
+
+# The camera's frame is checked as the XML loader checks it, and its
+# projection is the file's: an orthographic camera set here is saved, loaded
+# back as orthographic and renders as `whitted render` renders the file.
+def test_camera_frame_and_projection(tmp_path):
+    scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
+    camera = scene.camera
+    position, look_at, up = camera.position, camera.look_at, camera.up
+    with pytest.raises(ValueError, match=r"^Camera\.look_at: Camera\.position and Camera\.look_at would coincide$"):
+        camera.look_at = position
+    with pytest.raises(ValueError, match=r"^Camera\.position: Camera\.position and Camera\.look_at would coincide$"):
+        camera.position = look_at
+    view = tuple(b - a for a, b in zip(position, look_at))
+    with pytest.raises(ValueError, match=r"^Camera\.up: Camera\.up would be parallel to the viewing direction$"):
+        camera.up = tuple(-3 * x for x in view)
+    assert (camera.position, camera.look_at, camera.up) == (position, look_at, up)
+    assert camera.projection == "perspective"
+
+    camera.projection = "orthographic"
+    camera.window_height = 3.0
+    scene.save(tmp_path / "ortho.xml")
+    reloaded = whitted.load(tmp_path / "ortho.xml")
+    assert (reloaded.camera.projection, reloaded.camera.window_height) == ("orthographic", 3.0)
+    status, err = run_cli("render", tmp_path / "ortho.xml", "-o", tmp_path / "x.exr", "--width", 64, "--height", 48,
+                          "--aov", "none", "-q")
+    assert status == 0, err
+    image = whitted.render(scene, aovs="none", **SIZE).image
+    assert np.array_equal(image, read_exr(tmp_path / "x.exr"))
+    assert not np.array_equal(image, whitted.render(whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml"),
+                                                    aovs="none", **SIZE).image)
 
 
 def rss_mib():
