@@ -1,14 +1,15 @@
 #include "scene/scene.h"
 
+#include "scene/xml_reader.h"
+
 namespace whitted {
 
 CameraFrameProblem cameraFrameProblem(const Camera& camera) {
-    // The XML format's tolerances (scene/xml_reader.h kMinLength; unit
-    // vectors closer to parallel than |cross| 1e-6 count as parallel).
-    constexpr double kMinLength = 1e-12, kParallelTolerance = 1e-6;
+    // Unit vectors closer to parallel than |cross| 1e-6 count as parallel.
+    constexpr double kParallelTolerance = 1e-6;
     glm::dvec3 forward = camera.windowCenter - camera.eye;
     double distance = glm::length(forward);
-    if (!(distance > kMinLength)) return CameraFrameProblem::EyeAtWindow;
+    if (!(distance > xml::kMinLength)) return CameraFrameProblem::EyeAtWindow;
     if (!(glm::length(glm::cross(forward / distance, glm::normalize(camera.up))) >= kParallelTolerance))
         return CameraFrameProblem::UpAlongView;
     return CameraFrameProblem::None;
