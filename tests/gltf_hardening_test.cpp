@@ -267,5 +267,47 @@ TEST(GltfHardening, GlbLengthsAndTruncations) {
     }
 }
 
+// Node transforms multiply, so where a mesh lands is checked once placed
+// (the glTF fuzzer's finding: a scale of 1e-200 flattened a square to
+// triangles of zero area, and chained translations carried it past the
+// scene's ±1e6). A flattened triangle is dropped with a warning, a primitive
+// left empty is dropped, and a vertex placed beyond ±1e6 is refused.
+TEST(GltfHardening, MeshesAreCheckedWherePlaced) {
+    fs::path dir = scratch("placed");
+    Json flat = squareDocument();
+    flat["nodes"] = Json::array({{{"mesh", 0}, {"scale", {1, 1e-200, 1}}}, {{"mesh", 0}, {"scale", {1, 1, 1}}}});
+    flat["scenes"] = Json::array({{{"nodes", {0, 1}}}});
+    fs::path flatFile = writeJson(dir / "flat.gltf", flat);
+    AuthoredScene loaded = loadGltfScene(flatFile);
+    ASSERT_EQ(loaded.scene.objects.size(), 1u);  // node 0's square is gone, node 1's stays whole
+    EXPECT_EQ(std::get<Mesh>(loaded.scene.objects[0].shape).triangles.size(), 2u);
+    EXPECT_EQ(loaded.scene.warnings,
+              std::vector<std::string>{flatFile.string() + ": node \"node 0\": 2 degenerate triangles skipped"});
+
+    Json far = squareDocument();
+    far["nodes"] = Json::array({{{"translation", {1e6, 0, 0}}, {"children", {1}}}, {{"translation", {1e6, 0, 0}}, {"mesh", 0}}});
+    fs::path farFile = writeJson(dir / "far.gltf", far);
+    EXPECT_EQ(refusal(farFile), farFile.string() + ": node \"node 1\": a vertex is placed beyond ±1e6");
+
+    Json farLight = squareDocument();
+    farLight["extensionsUsed"] = Json::array({"KHR_lights_punctual"});
+    farLight["extensions"] = {{"KHR_lights_punctual", {{"lights", Json::array({{{"type", "point"}}})}}}};
+    farLight["nodes"] = Json::array({{{"mesh", 0}},
+                                     {{"translation", {1e6, 0, 0}}, {"children", {2}}},
+                                     {{"translation", {1e6, 0, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}});
+    farLight["scenes"] = Json::array({{{"nodes", {0, 1}}}});
+    fs::path lightFile = writeJson(dir / "far_light.gltf", farLight);
+    EXPECT_EQ(refusal(lightFile), lightFile.string() + ": node \"node 2\": its light is placed beyond ±1e6");
+
+    Json farCamera = squareDocument();
+    farCamera["cameras"] = Json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.1}}}}});
+    farCamera["nodes"] = Json::array({{{"mesh", 0}},
+                                      {{"translation", {0, 1e6, 0}}, {"children", {2}}},
+                                      {{"translation", {0, 1e6, 0}}, {"camera", 0}}});
+    farCamera["scenes"] = Json::array({{{"nodes", {0, 1}}}});
+    fs::path cameraFile = writeJson(dir / "far_camera.gltf", farCamera);
+    EXPECT_EQ(refusal(cameraFile), cameraFile.string() + ": node \"node 2\": its camera is placed beyond ±1e6");
+}
+
 }  // namespace
 }  // namespace whitted::test

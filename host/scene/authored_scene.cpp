@@ -17,6 +17,13 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// Every position of a scene is within ±kMaxMagnitude (scene/xml_reader.h);
+// node transforms multiply, so a placed glTF point is checked where placed.
+bool withinMagnitude(const glm::dvec3& v) {
+    using xml::kMaxMagnitude;
+    return std::abs(v.x) <= kMaxMagnitude && std::abs(v.y) <= kMaxMagnitude && std::abs(v.z) <= kMaxMagnitude;
+}
+
 std::string lowerExtension(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
@@ -118,7 +125,8 @@ std::string gltfPartName(size_t mesh, size_t primitive) {
     return "mesh " + std::to_string(mesh) + " primitive " + std::to_string(primitive);
 }
 
-Mesh meshFromGltfPrimitive(const GltfPrimitive& prim, const glm::dmat4& world, bool textured, bool normalMapped) {
+Mesh meshFromGltfPrimitive(const GltfPrimitive& prim, const glm::dmat4& world, bool textured, bool normalMapped,
+                           size_t& degenerateSkipped) {
     const glm::dmat3 linear(world);
     const glm::dmat3 normalMatrix = glm::transpose(glm::inverse(linear));
     const bool flip = glm::determinant(linear) < 0;  // mirrored: the winding turns over
@@ -130,6 +138,12 @@ Mesh meshFromGltfPrimitive(const GltfPrimitive& prim, const glm::dmat4& world, b
         Triangle t;
         glm::dvec3* corners[3] = {&t.v0, &t.v1, &t.v2};
         for (int k = 0; k < 3; ++k) *corners[k] = glm::dvec3(world * glm::dvec4(prim.positions[v[size_t(k)]], 1));
+        // Dropped where placed, as a scene file's <file> drops them: a
+        // transform can flatten a triangle the file holds whole.
+        if (degenerate(t)) {
+            ++degenerateSkipped;
+            continue;
+        }
         out.triangles.push_back(t);
         if (!prim.normals.empty()) {
             std::array<glm::dvec3, 3> n;
@@ -188,6 +202,8 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
             c.nodeName = node.name;
             Camera& camera = c.camera;
             camera.eye = glm::dvec3(world * glm::dvec4(0, 0, 0, 1));
+            if (!withinMagnitude(camera.eye))
+                throw SceneError(where, 0, "node \"" + nodeName + "\": its camera is placed beyond ±1e6");
             glm::dvec3 forward = linear * glm::dvec3(0, 0, -1), up = linear * glm::dvec3(0, 1, 0);
             if (!(glm::length(forward) > 1e-12) || !(glm::length(glm::cross(forward, up)) > 1e-12))
                 throw SceneError(where, 0, "node \"" + nodeName + "\": its camera's transform is degenerate");
@@ -211,6 +227,8 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
             if (light.name.empty()) light.name = nodeName;
             if (!std::isfinite(glm::length(light.direction)))
                 throw SceneError(where, 0, "node \"" + nodeName + "\": its light's direction is degenerate");
+            if (!withinMagnitude(light.position))
+                throw SceneError(where, 0, "node \"" + nodeName + "\": its light is placed beyond ±1e6");
             scene.lights.push_back(light);
         }
         if (node.mesh >= 0) {
@@ -232,7 +250,16 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
                     object.material.dropTextures();
                     textured = false;
                 }
-                Mesh out = meshFromGltfPrimitive(prim, world, textured, bool(object.material.normalMap));
+                size_t skipped = 0;
+                Mesh out = meshFromGltfPrimitive(prim, world, textured, bool(object.material.normalMap), skipped);
+                for (const Triangle& t : out.triangles)
+                    for (const glm::dvec3& v : {t.v0, t.v1, t.v2})
+                        if (!withinMagnitude(v))
+                            throw SceneError(where, 0, "node \"" + nodeName + "\": a vertex is placed beyond ±1e6");
+                if (skipped > 0)
+                    scene.warnings.push_back(where + ": node \"" + nodeName + "\": " + std::to_string(skipped) +
+                                             " degenerate triangle" + (skipped > 1 ? "s" : "") + " skipped");
+                if (out.triangles.empty()) continue;
                 // Written back by the scene writer as <file part="mesh M primitive P"> with <matrix>.
                 out.source = Mesh::FileSource{absolutePath, glm::dvec3(0), glm::dvec3(1), glm::dvec3(0), -1,
                                               gltfPartName(size_t(node.mesh), p), world};

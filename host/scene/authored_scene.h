@@ -64,8 +64,10 @@ Light lightFromGltf(const GltfLight& light, const glm::dmat4& world);
 // texture coordinates (v flipped to whitted's up) only when `textured`,
 // tangents only when also `normalMapped`. The glTF scene and a <file
 // part="mesh M primitive P"> both build their meshes with it, so that a
-// converted scene renders bit for bit as the file.
-Mesh meshFromGltfPrimitive(const GltfPrimitive& primitive, const glm::dmat4& world, bool textured, bool normalMapped);
+// converted scene renders bit for bit as the file. Triangles degenerate
+// once placed are dropped and counted in `degenerateSkipped`.
+Mesh meshFromGltfPrimitive(const GltfPrimitive& primitive, const glm::dmat4& world, bool textured, bool normalMapped,
+                           size_t& degenerateSkipped);
 // "mesh M primitive P", the part attribute naming one primitive.
 std::string gltfPartName(size_t mesh, size_t primitive);
 

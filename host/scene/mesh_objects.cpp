@@ -276,7 +276,12 @@ Mesh readGltfPart(const Diagnostics& diag, const XMLElement* e, const Placement&
     bool normalMapped = ownNormalMap || (fileMaterials.wanted && material && material->normalTexture);
     bool textured = fileTextures || namesTexture(properties);
     glm::dmat4 world = placement.matrix ? *placement.matrix : glm::dmat4(placement.linear);
-    Mesh mesh = meshFromGltfPrimitive(primitive, world, textured, normalMapped);
+    size_t skipped = 0;
+    Mesh mesh = meshFromGltfPrimitive(primitive, world, textured, normalMapped, skipped);
+    if (mesh.triangles.empty()) diag.fail(e, name + ": every triangle of part \"" + part + "\" is degenerate");
+    if (skipped > 0)
+        diag.warn(e, name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
+                         " skipped");
     for (Triangle& t : mesh.triangles) {
         if (placement.position != glm::dvec3(0))
             for (glm::dvec3* v : {&t.v0, &t.v1, &t.v2}) *v += placement.position;
