@@ -531,8 +531,8 @@ private:
                 // znear > 0 and zfar > znear (glTF 2.0 §5.13); whitted's rays start at the eye and run to
                 // infinity, so the planes are checked and not used.
                 check(member(*p, "znear"), at + "/perspective", "has no znear");
-                double znear = number(*p, "znear", at + "/perspective/znear", 0, 0, 1e300);
-                check(znear > 0, at + "/perspective/znear", "is 0; it must be > 0");
+                double znear = number(*p, "znear", at + "/perspective/znear", 0, -1e300, 1e300);
+                check(znear > 0, at + "/perspective/znear", "is " + show(znear) + "; it must be > 0");
                 double zfar = number(*p, "zfar", at + "/perspective/zfar", 1e300, 0, 1e300);
                 check(zfar > znear, at + "/perspective/zfar", "is " + show(zfar) + "; it must be > znear, " + show(znear));
             } else if (type == "orthographic") {

@@ -50,7 +50,8 @@ public:
                 fail("\"" + key + "\" before any newmtl");
             }
             if (key == "Ka" || key == "Kd" || key == "Ks" || key == "Ke" || key == "Tf") {
-                glm::dvec3 c = colour(key, rest);
+                // Reflectances and filters are fractions; only emission is open-ended.
+                glm::dvec3 c = colour(key, rest, key == "Ke" ? 1e6 : 1.0);
                 (key == "Ka" ? m->Ka : key == "Kd" ? m->Kd : key == "Ks" ? m->Ks : key == "Ke" ? m->Ke : m->Tf) = c;
             } else if (key == "Ns") {
                 m->Ns = number(key, rest, 0, 1e5);
@@ -106,11 +107,14 @@ private:
         in >> word;
         if (word.empty()) fail(key + " expects a number");
         double v = parse(key, word);
-        if (v < lo || v > hi) fail(key + " is " + word + "; it must be in [" + trim(std::to_string(lo)) + ", " +
-                                   trim(std::to_string(hi)) + "]");
+        if (v < lo || v > hi) {
+            std::ostringstream range;
+            range << "; it must be in [" << lo << ", " << hi << "]";
+            fail(key + " is " + word + range.str());
+        }
         return v;
     }
-    glm::dvec3 colour(const std::string& key, const std::string& rest) const {
+    glm::dvec3 colour(const std::string& key, const std::string& rest, double hi) const {
         std::istringstream in(rest);
         std::vector<std::string> words;
         for (std::string w; in >> w;) words.push_back(w);
@@ -120,7 +124,11 @@ private:
         glm::dvec3 c;
         for (int i = 0; i < 3; ++i) c[i] = parse(key, words[std::min<size_t>(size_t(i), words.size() - 1)]);
         for (int i = 0; i < 3; ++i)
-            if (c[i] < 0 || c[i] > 1e6) fail(key + " must have non-negative components");
+            if (!(c[i] >= 0 && c[i] <= hi)) {
+                std::ostringstream message;
+                message << key << " must have components in [0, " << hi << "], got " << c[i];
+                fail(message.str());
+            }
         return c;
     }
     // The file name after the options (-bm STRENGTH read, others skipped

@@ -339,6 +339,10 @@ Material materialFromMtl(const MtlMaterial& m, const std::string& file, std::vec
     if (glass) {
         out.transmission = 1;
         out.ior = illum == 6 || illum == 7 ? ni : 1.0;
+        // The scene format's index of refraction is in [0.1, 10] (<refraction_coef>).
+        if (!(out.ior >= 0.1 && out.ior <= 10))
+            throw SceneError(file, m.illumLine,
+                             "illum " + std::to_string(illum) + " refracts by Ni, which must then be in [0.1, 10]");
         out.transmissionColor = (glm::dvec3(1) - glm::min(ks, glm::dvec3(1))) * tf;
     } else if (m.d && *m.d < 1) {  // dissolve: see-through without bending
         double d = *m.d;
