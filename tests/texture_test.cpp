@@ -653,6 +653,64 @@ const std::string kSphereWithTexture = R"(<scene>
   </objects>
 </scene>)";
 
+// The bytes of a PNG that claims `width` x `height` and holds one IDAT of
+// garbage: enough for a reader to open it and read its size.
+std::string pngClaiming(uint32_t width, uint32_t height) {
+    auto crc32 = [](const std::string& bytes) {  // ISO 3309, as PNG's chunks use
+        uint32_t crc = 0xFFFFFFFFu;
+        for (unsigned char b : bytes) {
+            crc ^= b;
+            for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+        }
+        return ~crc;
+    };
+    auto be32 = [](uint32_t v) {
+        return std::string{char(v >> 24), char(v >> 16), char(v >> 8), char(v)};
+    };
+    auto chunk = [&](const std::string& type, const std::string& data) {
+        return be32(uint32_t(data.size())) + type + data + be32(crc32(type + data));
+    };
+    std::string ihdr = be32(width) + be32(height) + std::string{8, 2, 0, 0, 0};  // 8-bit RGB
+    return std::string("\x89PNG\r\n\x1a\n", 8) + chunk("IHDR", ihdr) + chunk("IDAT", std::string(16, 'x')) +
+           chunk("IEND", "");
+}
+
+// A file that claims more texels than a texture may hold is refused by its
+// size before its pixels are allocated (before, these hundred bytes had the
+// reader allocate 3 GiB of floats for 16000x16000 RGB); a float texel
+// beyond the half-float range, which would be infinite on the device, is
+// refused by value.
+TEST(TextureFile, RefusesHugeClaimsAndTexelsBeyondHalfRange) {
+    fs::path huge = textureDir() / "huge_claim.png";
+    std::ofstream(huge, std::ios::binary) << pngClaiming(16000, 16000);
+    try {
+        readTextureFile(huge, TextureEncoding::Colour);
+        ADD_FAILURE() << "a 16000x16000 claim was read";
+    } catch (const TextureFileError& e) {
+        EXPECT_STREQ(e.what(), "is 16000x16000; a texture holds at most 67108864 texels (8192x8192)");
+    }
+    const std::string bytes = pngClaiming(9000, 9000);
+    try {
+        readTextureMemory(std::span(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size()), "png",
+                          TextureEncoding::Colour, "embedded");
+        ADD_FAILURE() << "a 9000x9000 claim was read";
+    } catch (const TextureFileError& e) {
+        EXPECT_STREQ(e.what(), "is 9000x9000; a texture holds at most 67108864 texels (8192x8192)");
+    }
+
+    fs::path bright = textureDir() / "beyond_half.exr";
+    writeImage(bright, 2, 1, 3, std::vector<float>{1, 1, 1, 1, 70000, 1}, PixelEncoding::Float);
+    try {
+        readTextureFile(bright, TextureEncoding::Colour);
+        ADD_FAILURE() << "a texel of 70000 was read";
+    } catch (const TextureFileError& e) {
+        EXPECT_STREQ(e.what(), "has a texel beyond the half-float range (|value| > 65504)");
+    }
+    fs::path edge = textureDir() / "half_max.exr";
+    writeImage(edge, 2, 1, 3, std::vector<float>{1, 1, 1, 1, 65504, 1}, PixelEncoding::Float);
+    EXPECT_FLOAT_EQ(texel(readTextureFile(edge, TextureEncoding::Colour).levels[0], 1, 0).g, 65504.0f);
+}
+
 // A file that is not an image: the loader's place and OpenImageIO's reason.
 TEST(TextureLoader, RefusesAFileThatIsNotAnImage) {
     fs::path dir = textureDir();

@@ -203,7 +203,8 @@ std::span<const float> readImageInto(const std::filesystem::path& path, int& wid
                                      std::vector<float>& storage) {
     DecodedImage image;
     std::string error;
-    if (!imageLibrary().read(path.string(), std::numeric_limits<int>::max(), image, error))
+    if (!imageLibrary().read(path.string(), std::numeric_limits<int>::max(), std::numeric_limits<size_t>::max(), image,
+                             error))
         throw std::runtime_error(path.string() + ": cannot read image: " + error);
     width = image.width;
     height = image.height;

@@ -71,14 +71,16 @@ public:
     virtual std::unique_ptr<ImageFileWriter> openWriter(const std::string& path, const ImageFileSpec& spec,
                                                         std::string& error) const = 0;
     // Reads a file, or an image held in memory in `format` ("png", "jpg").
-    // An image wider or taller than maxSide is returned without its pixels.
-    virtual bool read(const std::string& path, int maxSide, DecodedImage& image, std::string& error) const = 0;
+    // An image wider or taller than maxSide, or of more than maxTexels
+    // texels, is returned without its pixels (nothing is allocated for them).
+    virtual bool read(const std::string& path, int maxSide, size_t maxTexels, DecodedImage& image,
+                      std::string& error) const = 0;
     virtual bool readMemory(std::span<const unsigned char> bytes, const std::string& format, int maxSide,
-                            DecodedImage& image, std::string& error) const = 0;
+                            size_t maxTexels, DecodedImage& image, std::string& error) const = 0;
 };
 
 // The module's one entry point; null when `abi` is not the one it was built with.
-constexpr uint32_t kImageLibraryAbi = 2;
+constexpr uint32_t kImageLibraryAbi = 3;
 extern "C" const ImageLibrary* whittedImageLibrary(uint32_t abi);
 
 // The library, loaded now unless loaded already (waits for a load under

@@ -42,7 +42,7 @@ private:
 };
 
 // The spec and pixels of an opened input, all channels as floats.
-bool readOpened(OIIO::ImageInput& in, int maxSide, DecodedImage& image, std::string& error) {
+bool readOpened(OIIO::ImageInput& in, int maxSide, size_t maxTexels, DecodedImage& image, std::string& error) {
     const OIIO::ImageSpec& spec = in.spec();
     image.width = spec.width;
     image.height = spec.height;
@@ -52,7 +52,8 @@ bool readOpened(OIIO::ImageInput& in, int maxSide, DecodedImage& image, std::str
                       spec.format.basetype == OIIO::TypeDesc::DOUBLE;
     image.colourSpace = spec.get_string_attribute("oiio:ColorSpace");
     image.pixels.clear();
-    if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.width > maxSide || spec.height > maxSide)
+    if (spec.width < 1 || spec.height < 1 || spec.nchannels < 1 || spec.width > maxSide || spec.height > maxSide ||
+        size_t(spec.width) * size_t(spec.height) > maxTexels)
         return true;
     image.pixels.resize(size_t(spec.width) * spec.height * spec.nchannels);
     if (in.read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data())) return true;
@@ -104,22 +105,23 @@ public:
         }
     }
 
-    bool read(const std::string& path, int maxSide, DecodedImage& image, std::string& error) const override {
+    bool read(const std::string& path, int maxSide, size_t maxTexels, DecodedImage& image,
+              std::string& error) const override {
         try {
             auto in = OIIO::ImageInput::open(path);
             if (!in) {
                 error = reasonOr(OIIO::geterror());
                 return false;
             }
-            return readOpened(*in, maxSide, image, error);
+            return readOpened(*in, maxSide, maxTexels, image, error);
         } catch (const std::exception& e) {
             error = e.what();
             return false;
         }
     }
 
-    bool readMemory(std::span<const unsigned char> bytes, const std::string& format, int maxSide, DecodedImage& image,
-                    std::string& error) const override {
+    bool readMemory(std::span<const unsigned char> bytes, const std::string& format, int maxSide, size_t maxTexels,
+                    DecodedImage& image, std::string& error) const override {
         try {
             OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes.data()), bytes.size());
             auto in = OIIO::ImageInput::create(format);
@@ -132,7 +134,7 @@ public:
                 error = reasonOr(in->geterror());
                 return false;
             }
-            return readOpened(*in, maxSide, image, error);
+            return readOpened(*in, maxSide, maxTexels, image, error);
         } catch (const std::exception& e) {
             error = e.what();
             return false;

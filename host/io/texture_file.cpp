@@ -57,6 +57,10 @@ TextureData fromDecoded(const DecodedImage& image, TextureEncoding encoding, con
     if (image.width < 1 || image.height < 1 || image.width > maxSide || image.height > maxSide)
         throw TextureFileError("is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                                "; a texture must be 1 to " + std::to_string(maxSide) + " texels on each side");
+    if (size_t(image.width) * size_t(image.height) > kMaxTextureTexels)
+        throw TextureFileError("is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                               "; a texture holds at most " + std::to_string(kMaxTextureTexels) +
+                               " texels (8192x8192)");
     if (image.channels < 1 || image.pixels.empty()) throw TextureFileError("has no channels");
     int channels = image.channels;
     const std::vector<float>& stored = image.pixels;
@@ -76,6 +80,10 @@ TextureData fromDecoded(const DecodedImage& image, TextureEncoding encoding, con
         }
         for (float v : {r, g, b, a})
             if (!std::isfinite(v)) throw TextureFileError("has a texel that is not a finite number");
+        // Texels are half floats on the device: a larger value would be infinite there.
+        for (float v : {r, g, b, a})
+            if (std::abs(v) > kMaxHalf)
+                throw TextureFileError("has a texel beyond the half-float range (|value| > 65504)");
         rgba[i * 4 + 0] = r;
         rgba[i * 4 + 1] = g;
         rgba[i * 4 + 2] = b;
@@ -96,7 +104,7 @@ TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding e
     if (std::filesystem::is_directory(path, ec)) throw TextureFileError("is a directory, expected an image file");
     DecodedImage image;
     std::string reason;
-    if (!imageLibrary().read(path.string(), int(gpu::kMaxImageSide), image, reason))
+    if (!imageLibrary().read(path.string(), int(gpu::kMaxImageSide), kMaxTextureTexels, image, reason))
         throw TextureFileError("could not be read: " + reason);
     return fromDecoded(image, encoding, path.string());
 }
@@ -110,7 +118,7 @@ TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::s
     if (format.empty()) throw TextureFileError("is in a format that was not recognised (expected PNG or JPEG)");
     DecodedImage image;
     std::string reason;
-    if (!imageLibrary().readMemory(bytes, format, int(gpu::kMaxImageSide), image, reason))
+    if (!imageLibrary().readMemory(bytes, format, int(gpu::kMaxImageSide), kMaxTextureTexels, image, reason))
         throw TextureFileError("could not be read: " + reason);
     TextureData data = fromDecoded(image, encoding, name);
     data.encoded.assign(bytes.begin(), bytes.end());

@@ -4,6 +4,7 @@
 // (host/render/texture_set.cpp).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <span>
@@ -28,6 +29,13 @@ public:
 // linear light; float files (EXR, HDR) are linear already. Data (normal
 // maps): the values as stored, never decoded.
 enum class TextureEncoding { Colour, Data };
+
+// The most texels a texture may hold (8192x8192), checked before its pixels
+// are allocated: decoding holds four floats a texel twice over (2 GiB at
+// the limit), so a small file that claims a huge image is refused unread.
+inline constexpr size_t kMaxTextureTexels = size_t(1) << 26;
+// The largest finite half float, the texels' type on the device.
+inline constexpr float kMaxHalf = 65504.0f;
 
 // Reads a texture file. Throws TextureFileError.
 TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding encoding);
