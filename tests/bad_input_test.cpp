@@ -7,6 +7,7 @@
 //   creates nothing, `-o` naming an existing file leaves it as it was, and no
 //   *.partial* file is left behind.
 // * DegenerateButLegal/LegalSceneTest.*: accepted. Exit status 0, an image, and the exact warnings.
+#include "gltf_documents.h"
 #include "test_support.h"
 
 #include <fcntl.h>
@@ -15,7 +16,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstring>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -130,6 +133,19 @@ std::vector<BadCase> manifest() {
     return cases;
 }
 
+// The square's .glb cut at the `index`th place of glbCuts().
+void writeGlbCut(const fs::path& path, size_t index) {
+    const std::vector<unsigned char> glb = glbBytes(squareDocument(false), squareBytes());
+    writeBytes(path, glbCutAt(glb, glbCuts(glb).at(index)));
+}
+
+// A one-triangle OBJ using material "red" of the MTL library `mtl`, written beside it.
+void writeObjWithMtl(const fs::path& path, const std::string& mtl) {
+    const std::string library = path.stem().string() + ".mtl";
+    std::ofstream(path.parent_path() / library) << mtl;
+    std::ofstream(path) << "mtllib " << library << "\nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+}
+
 // The cases the manifest names that are made here rather than committed. Each
 // writes its input at `path`.
 const std::map<std::string, void (*)(const fs::path&)>& generatedCases() {
@@ -148,6 +164,128 @@ const std::map<std::string, void (*)(const fs::path&)>& generatedCases() {
          }},
         {"nonexistent.xml", [](const fs::path&) {}},
         {"directory.xml", [](const fs::path& path) { fs::create_directories(path); }},
+        // Model files given where a scene goes, each wrong in one way (the
+        // readers' rules: scenes/README.md "glTF 2.0", "OBJ/MTL", "Limits").
+        {"gltf_chain_5000.gltf", [](const fs::path& path) { writeJson(path, chain(5000)); }},
+        {"gltf_chain_200000.gltf", [](const fs::path& path) { writeJson(path, chain(200000)); }},
+        {"gltf_not_json.gltf", [](const fs::path& path) { std::ofstream(path) << "{\"asset\": {\"version\": \"2.0\"},"; }},
+        {"gltf_version_1.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument();
+             j["asset"]["version"] = "1.0";
+             writeJson(path, j);
+         }},
+        {"gltf_znear_negative.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument();
+             j["cameras"] = Json::array({{{"type", "perspective"}, {"perspective", {{"yfov", 0.6}, {"znear", -1}}}}});
+             writeJson(path, j);
+         }},
+        {"gltf_signed_indices.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument();
+             j["accessors"][1]["componentType"] = 5122;  // SHORT
+             writeJson(path, j);
+         }},
+        {"gltf_float_indices.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument();
+             j["accessors"][1]["componentType"] = 5126;
+             j["accessors"][1]["count"] = 3;
+             writeJson(path, j);
+         }},
+        {"gltf_index_out_of_range.gltf",
+         [](const fs::path& path) {
+             std::vector<unsigned char> bytes = squareBytes();
+             bytes[48 + 2 * 5] = 9;  // the sixth index names vertex 9 of 4
+             writeJson(path, squareDocument(true, bytes));
+         }},
+        {"gltf_nan_position.gltf",
+         [](const fs::path& path) {
+             std::vector<unsigned char> bytes = squareBytes();
+             const float nan = std::numeric_limits<float>::quiet_NaN();
+             std::memcpy(bytes.data() + 4, &nan, 4);
+             writeJson(path, squareDocument(true, bytes));
+         }},
+        {"gltf_huge_count.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument();
+             j["accessors"][0].erase("bufferView");
+             j["accessors"][0]["count"] = 1000000000;
+             writeJson(path, j);
+         }},
+        {"gltf_count_beyond_view.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument();
+             j["accessors"][0]["count"] = 400000000;
+             writeJson(path, j);
+         }},
+        {"gltf_no_byte_length.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument();
+             j["buffers"][0].erase("byteLength");
+             writeJson(path, j);
+         }},
+        {"gltf_short_stride.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument();
+             j["bufferViews"][0]["byteStride"] = 8;
+             writeJson(path, j);
+         }},
+        {"gltf_duplicate_roots.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument();
+             j["scenes"] = Json::array({{{"nodes", {0, 0}}}});
+             writeJson(path, j);
+         }},
+        {"gltf_cycle.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument();
+             j["nodes"] = Json::array({{{"mesh", 0}, {"children", {1}}}, {{"children", {0}}}});
+             j["scenes"] = Json::array({{{"nodes", {0}}}});
+             writeJson(path, j);
+         }},
+        {"gltf_missing_buffer_file.gltf",
+         [](const fs::path& path) {
+             Json j = squareDocument(false);
+             j["buffers"][0]["uri"] = "missing.bin";
+             writeJson(path, j);
+         }},
+        {"glb_header_longer.glb",
+         [](const fs::path& path) {
+             std::vector<unsigned char> glb = glbBytes(squareDocument(false), squareBytes());
+             const uint32_t claimed = uint32_t(glb.size() + 1000);
+             std::memcpy(glb.data() + 8, &claimed, 4);
+             writeBytes(path, glb);
+         }},
+        // The square's .glb cut at each chunk boundary and inside each chunk.
+        {"glb_cut_0.glb", [](const fs::path& path) { writeGlbCut(path, 0); }},
+        {"glb_cut_1.glb", [](const fs::path& path) { writeGlbCut(path, 1); }},
+        {"glb_cut_2.glb", [](const fs::path& path) { writeGlbCut(path, 2); }},
+        {"glb_cut_3.glb", [](const fs::path& path) { writeGlbCut(path, 3); }},
+        {"glb_cut_4.glb", [](const fs::path& path) { writeGlbCut(path, 4); }},
+        {"glb_cut_5.glb", [](const fs::path& path) { writeGlbCut(path, 5); }},
+        {"glb_cut_6.glb", [](const fs::path& path) { writeGlbCut(path, 6); }},
+        {"glb_cut_7.glb", [](const fs::path& path) { writeGlbCut(path, 7); }},
+        {"obj_face_out_of_range.obj",
+         [](const fs::path& path) { std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n"; }},
+        {"obj_nan_vertex.obj",
+         [](const fs::path& path) { std::ofstream(path) << "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"; }},
+        {"obj_huge_vertex.obj",
+         [](const fs::path& path) { std::ofstream(path) << "v 0 0 0\nv 1e300 0 0\nv 0 1 0\nf 1 2 3\n"; }},
+        {"obj_all_degenerate.obj",
+         [](const fs::path& path) { std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n"; }},
+        {"obj_empty.obj", [](const fs::path& path) { std::ofstream(path) << "# nothing\n"; }},
+        {"mtl_bad_colour.obj", [](const fs::path& path) { writeObjWithMtl(path, "newmtl red\nKd 1 x 0\n"); }},
+        {"mtl_colour_out_of_range.obj",
+         [](const fs::path& path) { writeObjWithMtl(path, "newmtl red\nKd 1 0 -3\n"); }},
+        {"mtl_specular_above_one.obj",
+         [](const fs::path& path) { writeObjWithMtl(path, "newmtl red\nKs 0.9 0.9 8.9\nillum 3\n"); }},
+        {"mtl_glass_index_too_small.obj",
+         [](const fs::path& path) { writeObjWithMtl(path, "newmtl red\nNi 0.01\nillum 6\n"); }},
+        {"mtl_bad_illum.obj", [](const fs::path& path) { writeObjWithMtl(path, "newmtl red\nillum 99\n"); }},
+        {"mtl_missing_texture.obj",
+         [](const fs::path& path) { writeObjWithMtl(path, "newmtl red\nmap_Kd no_such_texture.png\n"); }},
     };
     return cases;
 }
@@ -173,8 +311,12 @@ TEST_P(BadSceneTest, IsRefusedWithoutTouchingTheOutput) {
         generated->second(scene);
     }
     std::string expected = c.expected;
-    ASSERT_EQ(expected.rfind("FILE", 0), 0u) << "expected.txt: the message must start with FILE";
-    expected.replace(0, 4, scene.string());
+    ASSERT_TRUE(expected.starts_with("FILE") || expected.starts_with("DIR/"))
+        << "expected.txt: the message must start with FILE or DIR/";
+    if (expected.starts_with("FILE")) expected.replace(0, 4, scene.string());
+    // DIR/: the scene's folder (a model file's MTL library and textures).
+    for (size_t at; (at = expected.find("DIR/")) != std::string::npos;)
+        expected.replace(at, 3, scene.parent_path().string());
 
     // Two runs, side by side: (a) -o names a file that does not exist,
     // (b) -o names an existing file.
