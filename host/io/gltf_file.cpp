@@ -135,15 +135,16 @@ private:
         if (!v) return fallback;
         check(v->is_number(), where, "must be a number");
         double x = v->get<double>();
-        check(std::isfinite(x) && x >= lo && x <= hi, where,
-              "is " + v->dump() + "; it must be in [" + show(lo) + ", " + show(hi) + "]");
+        // Messages are built only on failure: a file of a million nodes checks millions of values.
+        if (!(std::isfinite(x) && x >= lo && x <= hi))
+            fail(where, "is " + v->dump() + "; it must be in [" + show(lo) + ", " + show(hi) + "]");
         return x;
     }
     int index(const Json& o, const char* key, const std::string& where, size_t count) const {
         const Json* v = member(o, key);
         if (!v) return -1;
-        check(v->is_number_integer() && v->get<int64_t>() >= 0 && size_t(v->get<int64_t>()) < count, where,
-              "is " + v->dump() + "; expected an index below " + std::to_string(count));
+        if (!(v->is_number_integer() && v->get<int64_t>() >= 0 && size_t(v->get<int64_t>()) < count))
+            fail(where, "is " + v->dump() + "; expected an index below " + std::to_string(count));
         return int(v->get<int64_t>());
     }
     std::string string(const Json& o, const char* key, const std::string& where, const std::string& fallback) const {
@@ -157,13 +158,13 @@ private:
                                 double lo, double hi) const {
         const Json* v = member(o, key);
         if (!v) return fallback;
-        check(v->is_array() && v->size() == N, where, "must be an array of " + std::to_string(N) + " numbers");
+        if (!(v->is_array() && v->size() == N)) fail(where, "must be an array of " + std::to_string(N) + " numbers");
         glm::vec<N, double> r;
         for (int i = 0; i < N; ++i) {
-            check((*v)[i].is_number(), where, "must be an array of " + std::to_string(N) + " numbers");
+            if (!(*v)[i].is_number()) fail(where, "must be an array of " + std::to_string(N) + " numbers");
             r[i] = (*v)[i].get<double>();
-            check(std::isfinite(r[i]) && r[i] >= lo && r[i] <= hi, where,
-                  "has " + (*v)[i].dump() + "; each must be in [" + show(lo) + ", " + show(hi) + "]");
+            if (!(std::isfinite(r[i]) && r[i] >= lo && r[i] <= hi))
+                fail(where, "has " + (*v)[i].dump() + "; each must be in [" + show(lo) + ", " + show(hi) + "]");
         }
         return r;
     }
@@ -598,8 +599,8 @@ private:
             const Json& lightExt = extension(n, "KHR_lights_punctual");
             node.light = index(lightExt, "light", at + "/extensions/KHR_lights_punctual/light", out_.lights.size());
             for (const Json& c : array(n, "children", at + "/children")) {
-                check(c.is_number_integer() && c.get<int64_t>() >= 0 && size_t(c.get<int64_t>()) < nodes.size(),
-                      at + "/children", "has " + c.dump() + ", not a node index");
+                if (!(c.is_number_integer() && c.get<int64_t>() >= 0 && size_t(c.get<int64_t>()) < nodes.size()))
+                    fail(at + "/children", "has " + c.dump() + ", not a node index");
                 node.children.push_back(int(c.get<int64_t>()));
             }
             if (const Json* m = member(n, "matrix")) {
@@ -623,8 +624,9 @@ private:
         std::vector<int> parent(nodes.size(), -1);
         for (size_t i = 0; i < out_.nodes.size(); ++i)
             for (int c : out_.nodes[i].children) {
-                check(parent[size_t(c)] < 0 && c != int(i), "/nodes/" + std::to_string(i) + "/children",
-                      "makes node " + std::to_string(c) + " a child twice (a node has at most one parent)");
+                if (!(parent[size_t(c)] < 0 && c != int(i)))
+                    fail("/nodes/" + std::to_string(i) + "/children",
+                         "makes node " + std::to_string(c) + " a child twice (a node has at most one parent)");
                 parent[size_t(c)] = int(i);
             }
         checkTree(parent);
@@ -635,9 +637,9 @@ private:
             std::string at = "/scenes/" + std::to_string(scene) + "/nodes";
             std::vector<bool> listed(nodes.size(), false);
             for (const Json& r : array(scenes[size_t(scene)], "nodes", at)) {
-                check(r.is_number_integer() && r.get<int64_t>() >= 0 && size_t(r.get<int64_t>()) < nodes.size() &&
-                          parent[size_t(r.get<int64_t>())] < 0,
-                      at, "has " + r.dump() + ", not the index of a root node");
+                if (!(r.is_number_integer() && r.get<int64_t>() >= 0 && size_t(r.get<int64_t>()) < nodes.size() &&
+                      parent[size_t(r.get<int64_t>())] < 0))
+                    fail(at, "has " + r.dump() + ", not the index of a root node");
                 check(!listed[size_t(r.get<int64_t>())], at, "lists root node " + r.dump() + " twice");
                 listed[size_t(r.get<int64_t>())] = true;
                 out_.sceneRoots.push_back(int(r.get<int64_t>()));
@@ -665,9 +667,9 @@ private:
         while (!open.empty()) {
             const int i = open.back();
             open.pop_back();
-            check(depth[size_t(i)] <= kMaxGltfNodeDepth, "/nodes/" + std::to_string(i),
-                  "is more than " + std::to_string(kMaxGltfNodeDepth) +
-                      " levels deep in the node tree; whitted reads trees up to that depth");
+            if (depth[size_t(i)] > kMaxGltfNodeDepth)
+                fail("/nodes/" + std::to_string(i), "is more than " + std::to_string(kMaxGltfNodeDepth) +
+                                                        " levels deep in the node tree; whitted reads trees up to that depth");
             for (int c : out_.nodes[size_t(i)].children) {
                 depth[size_t(c)] = depth[size_t(i)] + 1;
                 open.push_back(c);
