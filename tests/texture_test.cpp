@@ -706,6 +706,22 @@ TEST(TextureFile, RefusesHugeClaimsAndTexelsBeyondHalfRange) {
     } catch (const TextureFileError& e) {
         EXPECT_STREQ(e.what(), "has a texel beyond the half-float range (|value| > 65504)");
     }
+    // An EXR whose channel list claims 2 GB: refused before
+    // OpenEXR allocates it (texture_fuzzer's out-of-memory finding).
+    fs::path claim = textureDir() / "attribute_claim.exr";
+    writeImage(claim, 2, 1, 3, std::vector<float>{1, 1, 1, 1, 1, 1}, PixelEncoding::Float);
+    std::string exr = readFileText(claim);
+    const size_t channels = exr.find(std::string("channels\0chlist\0", 16));
+    ASSERT_NE(channels, std::string::npos);
+    exr.replace(channels + 16, 4, std::string("\xff\xff\xff\x7f", 4));
+    std::ofstream(claim, std::ios::binary | std::ios::trunc) << exr;
+    try {
+        readTextureFile(claim, TextureEncoding::Colour);
+        ADD_FAILURE() << "an attribute of 2 GB was read";
+    } catch (const TextureFileError& e) {
+        EXPECT_STREQ(e.what(), "could not be read: its EXR header attribute \"channels\" claims 2147483647 bytes, "
+                               "more than the file has");
+    }
     fs::path edge = textureDir() / "half_max.exr";
     writeImage(edge, 2, 1, 3, std::vector<float>{1, 1, 1, 1, 65504, 1}, PixelEncoding::Float);
     EXPECT_FLOAT_EQ(texel(readTextureFile(edge, TextureEncoding::Colour).levels[0], 1, 0).g, 65504.0f);

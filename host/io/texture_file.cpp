@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <fstream>
 #include <glm/gtc/packing.hpp>
 #include <memory>
 #include <system_error>
@@ -96,12 +97,51 @@ TextureData fromDecoded(const DecodedImage& image, TextureEncoding encoding, con
     return data;
 }
 
+// OpenEXR 3.1 allocates each header attribute at the size the file states
+// before it reads it, so a few hundred bytes claiming a 2 GB string exhaust
+// memory (texture_fuzzer's finding). The header is a list of attributes
+// (name\0 type\0 int32 size, then the value) ended by an empty name
+// (OpenEXR file layout, "Header"); each is checked against the bytes the
+// file has before OpenImageIO sees it. Not an EXR: nothing to check.
+void checkExrHeader(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    unsigned char magic[4] = {};
+    if (!in.read(reinterpret_cast<char*>(magic), 4) || magic[0] != 0x76 || magic[1] != 0x2f || magic[2] != 0x31 ||
+        magic[3] != 0x01)
+        return;
+    std::error_code ec;
+    const uint64_t fileSize = std::filesystem::file_size(path, ec);
+    in.seekg(8);  // magic and version
+    auto zeroTerminated = [&](std::string& text) {
+        text.clear();
+        for (char c; in.get(c) && c != '\0';)
+            if (text.size() < 256) text += c;
+            else return false;
+        return bool(in);
+    };
+    for (std::string name, type;;) {
+        if (!zeroTerminated(name)) throw TextureFileError("could not be read: its EXR header is cut short");
+        if (name.empty()) return;
+        unsigned char size[4] = {};
+        if (!zeroTerminated(type) || !in.read(reinterpret_cast<char*>(size), 4))
+            throw TextureFileError("could not be read: its EXR header is cut short");
+        const uint64_t bytes = uint64_t(size[0]) | uint64_t(size[1]) << 8 | uint64_t(size[2]) << 16 |
+                               uint64_t(size[3]) << 24;
+        const uint64_t at = uint64_t(in.tellg());
+        if (bytes > fileSize - std::min(at, fileSize))
+            throw TextureFileError("could not be read: its EXR header attribute \"" + name + "\" claims " +
+                                   std::to_string(bytes) + " bytes, more than the file has");
+        in.seekg(std::streamoff(at + bytes));
+    }
+}
+
 }  // namespace
 
 TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding encoding) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) throw TextureFileError("does not exist");
     if (std::filesystem::is_directory(path, ec)) throw TextureFileError("is a directory, expected an image file");
+    checkExrHeader(path);
     DecodedImage image;
     std::string reason;
     if (!imageLibrary().read(path.string(), int(gpu::kMaxImageSide), kMaxTextureTexels, image, reason))
