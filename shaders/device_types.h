@@ -388,7 +388,9 @@ struct RayCounters {
 // ray of one pixel's centre sample into a RayTreeRecord (at
 // TileParams.rayTreeAddress): its rays in the order they are traced, the
 // shadow rays of each and the surfaces each shadow ray crosses. What does not
-// fit is counted in RayTreeRecord.dropped (and its subtree left out).
+// fit is counted in RayTreeRecord.dropped, and so is every ray and shadow ray
+// of a dropped ray's subtree (left out); a record with dropped > 0 is not
+// fully recorded, and says so.
 WHITTED_CONST uint kRayTreeMaxRays = 256;
 WHITTED_CONST uint kRayTreeMaxShadowRays = 1024;
 WHITTED_CONST uint kRayTreeMaxCrossings = 2048;
@@ -452,8 +454,9 @@ struct RayTreeShadowRay {
     uint firstCrossing WHITTED_ZERO;
     uint crossingCount WHITTED_ZERO;
     uint blockerMaterial WHITTED_ZERO;  // the blocker's material (object) index, else kNoObject
+    uint droppedCrossings WHITTED_ZERO; // crossings found but not written (the record's crossings were full);
+                                        // the outcome and transmittance still count them
     uint pad0 WHITTED_ZERO;
-    uint pad1 WHITTED_ZERO;
 };
 
 // A transparent surface a shadow ray crosses, and the filter kt * mix(white,
@@ -472,7 +475,7 @@ struct RayTreeRecord {
     uint rayCount WHITTED_ZERO;
     uint shadowRayCount WHITTED_ZERO;
     uint crossingCount WHITTED_ZERO;
-    uint dropped WHITTED_ZERO;        // rays, shadow rays or crossings that did not fit
+    uint dropped WHITTED_ZERO;        // rays, shadow rays or crossings that did not fit, or whose parent did not
     RayTreeRay rays[kRayTreeMaxRays];
     RayTreeShadowRay shadowRays[kRayTreeMaxShadowRays];
     RayTreeCrossing crossings[kRayTreeMaxCrossings];

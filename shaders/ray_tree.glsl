@@ -30,7 +30,10 @@ vec3 gRayTreeSpecularBefore = vec3(0.0);
 void rayTreePush(uint slot, uint kind, Ray ray, vec3 weight, uint depth) {
     gRayTreeStack[slot] = kNoObject;
     uint parent = kind == kRayCamera ? kNoObject : gRayTreeCurrent;
-    if (kind != kRayCamera && parent == kNoObject) return;  // its parent was dropped
+    if (kind != kRayCamera && parent == kNoObject) {  // its parent was dropped: so is it, counted
+        rayTree.dropped += 1u;
+        return;
+    }
     uint i = rayTree.rayCount;
     if (i >= kRayTreeMaxRays) {
         rayTree.dropped += 1u;
@@ -86,7 +89,7 @@ uint rayTreeReflectionKind() { return gRayTreeTotalInternal ? kRayTotalInternal 
 // absorption.
 void rayTreeShadowCrossings(inout RayTreeShadowRay s, Ray ray, float tMax) {
     vec3 transmittance = vec3(1.0), opticalDepth = vec3(0.0);
-    bool blocked = false;
+    bool blocked = false, filtered = false;
     uint end = params.firstListPrimitive + params.listPrimitiveCount;
     const uint shapes = (kShapeMask | kListShapeMask) & ~(1u << kShapeCsg);
     for (uint i = 0u; i < end; ++i) {
@@ -114,11 +117,13 @@ void rayTreeShadowCrossings(inout RayTreeShadowRay s, Ray ray, float tMax) {
                 filterColour = kt * mix(vec3(1.0), crossingColour(leaf, k, ray.origin + t * ray.dir, n), materials[k].kd) *
                                materials[k].transmissionColor;
                 transmittance *= filterColour;
+                filtered = true;
                 opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
             }
             uint c = rayTree.crossingCount;
             if (c >= kRayTreeMaxCrossings) {
                 rayTree.dropped += 1u;
+                s.droppedCrossings += 1u;
             } else {
                 rayTree.crossingCount = c + 1u;
                 rayTree.crossings[c] = RayTreeCrossing(filterColour, t, leaf, k, 0u, 0u);
@@ -128,7 +133,9 @@ void rayTreeShadowCrossings(inout RayTreeShadowRay s, Ray ray, float tMax) {
     }
     s.absorption = exp(-max(opticalDepth, vec3(0.0)));
     s.transmittance = blocked ? vec3(0.0) : transmittance * s.absorption;
-    s.outcome = blocked ? kShadowBlocked : (s.crossingCount > 0u ? kShadowFiltered : kShadowLit);
+    // From what was found, written down or not: a shadow ray whose crossings
+    // all overflowed the record is still filtered, never lit.
+    s.outcome = blocked ? kShadowBlocked : (filtered ? kShadowFiltered : kShadowLit);
 }
 
 // The light before the last recorded one gets its share of the current
@@ -147,7 +154,10 @@ void rayTreeCloseShadowRay(vec3 diffuse, vec3 specular) {
 // shadeLocal traced a shadow ray towards light `light` and got `visibility`;
 // diffuse and specular are its sums so far (before this light's terms).
 void rayTreeShadowRay(uint light, Ray ray, float dist, vec3 visibility, vec3 diffuse, vec3 specular) {
-    if (gRayTreeCurrent == kNoObject) return;
+    if (gRayTreeCurrent == kNoObject) {  // the ray it belongs to was dropped: so is it, counted
+        rayTree.dropped += 1u;
+        return;
+    }
     rayTreeCloseShadowRay(diffuse, specular);
     uint i = rayTree.shadowRayCount;
     if (i >= kRayTreeMaxShadowRays) {
@@ -172,8 +182,8 @@ void rayTreeShadowRay(uint light, Ray ray, float dist, vec3 visibility, vec3 dif
     s.firstCrossing = rayTree.crossingCount;
     s.crossingCount = 0u;
     s.blockerMaterial = kNoObject;
+    s.droppedCrossings = 0u;
     s.pad0 = 0u;
-    s.pad1 = 0u;
     rayTreeShadowCrossings(s, ray, dist);
     rayTree.shadowRays[i] = s;
     // Shadow rays of one ray are consecutive: they are traced while it is shaded.

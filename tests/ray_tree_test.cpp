@@ -287,6 +287,71 @@ TEST(RayTree, ShadowRayThroughGlassReportsTheGlassAndItsFilter) {
     EXPECT_TRUE(glm::all(glm::epsilonEqual(floor.diffuse, filter * filter * 0.8f, 1e-5f)));
 }
 
+// A record that overflows says so instead of reading lit: a shadow ray
+// through 1,100 glass spheres crosses 2,200 surfaces, more than the 2,048 the
+// record holds; it is still "filtered", its crossings past the record are
+// counted on it and in `dropped`, and its transmittance is the renderer's.
+// A second light's shadow ray, every crossing of which finds the record full,
+// is "filtered" too (it read "lit" before).
+// A tree deeper than the record's 256 rays counts every ray it leaves out,
+// the descendants of a left-out ray included, and its text says it is not
+// fully recorded.
+TEST(RayTree, AFullRecordSaysSoAndCountsWhatItLeftOut) {
+    std::string xml = R"(<scene><camera><position x="0" y="2" z="6"/><window_position x="0" y="1.6666666" z="5"/>
+      <width>41</width><height>31</height></camera>
+      <lights><light><position x="0" y="6" z="0"/><color r="1" g="1" b="1"/></light>
+        <light><position x="0" y="7" z="0"/><color r="1" g="1" b="1"/></light></lights><objects>
+      <object><position x="0" y="0" z="0"/><properties><type>plane</type><normal x="0" y="1" z="0"/>
+        <diffuse_coef>0.8</diffuse_coef></properties></object>)";
+    constexpr int kSpheres = 1100;
+    for (int i = 0; i < kSpheres; ++i)
+        xml += "<object><position x=\"0\" y=\"" + std::to_string(0.1 + 0.004 * i) +
+               "\" z=\"0\"/><properties><type>sphere</type><radius>0.0015</radius>"
+               "<transmission_coef>0.999</transmission_coef><refraction_coef>1</refraction_coef>"
+               "<diffuse_coef>0</diffuse_coef></properties></object>";
+    xml += "</objects></scene>";
+    RayTree tree = traceXml(xml, 41, 31, 20, 15);
+    const gpu::RayTreeRay& floor = tree.rays[0];
+    ASSERT_EQ(floor.material, 0u) << "the centre pixel sees the floor at the origin";
+    ASSERT_EQ(floor.shadowRayCount, 2u);
+    const gpu::RayTreeShadowRay& shadow = tree.shadowRays[floor.firstShadowRay];
+    const gpu::RayTreeShadowRay& second = tree.shadowRays[floor.firstShadowRay + 1];
+    EXPECT_EQ(shadow.outcome, gpu::kShadowFiltered) << "not lit: it crossed 2,200 surfaces";
+    EXPECT_EQ(shadow.crossingCount, gpu::kRayTreeMaxCrossings);
+    EXPECT_EQ(shadow.crossingCount + shadow.droppedCrossings, 2u * kSpheres);
+    EXPECT_EQ(second.outcome, gpu::kShadowFiltered) << "not lit: none of its crossings fit, all were found";
+    EXPECT_EQ(second.crossingCount, 0u);
+    EXPECT_EQ(second.droppedCrossings, 2u * kSpheres);
+    EXPECT_EQ(tree.dropped, 4u * kSpheres - gpu::kRayTreeMaxCrossings);
+    const float expected = std::pow(0.999f, 2.0f * kSpheres);
+    for (const gpu::RayTreeShadowRay* s : {&shadow, &second})
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_NEAR(s->transmittance[c], expected, 1e-3f * expected);
+            EXPECT_NEAR(s->visibility[c], s->transmittance[c], 1e-4f * expected) << "the renderer's own";
+        }
+    std::string text = rayTreeText(tree, loadSceneFromString(xml, "test.xml"));
+    EXPECT_NE(text.find("(not fully recorded: 2352 rays, shadow rays or crossings"), std::string::npos) << text;
+    EXPECT_NE(text.find("(and 152 crossings not recorded)"), std::string::npos);
+    EXPECT_NE(text.find("filtered (and 2200 crossings not recorded)"), std::string::npos);
+
+    // Stacked glass slabs that reflect and refract: the tree branches at
+    // every surface, past the record's 256 rays at depth 12.
+    std::string slabs = R"(<scene><camera><position x="0.1" y="0.13" z="6"/><window_position x="0.1" y="0.13" z="5"/>
+      <width>41</width><height>31</height></camera>
+      <lights><light><position x="3" y="4" z="8"/><color r="1" g="1" b="1"/></light></lights><objects>)";
+    for (int i = 0; i < 6; ++i)
+        slabs += "<object><position x=\"-2\" y=\"-2\" z=\"" + std::to_string(-1.0 * i) +
+                 "\"/><properties><type>box</type><size x=\"4\" y=\"4\" z=\"0.5\"/>"
+                 "<reflection_coef>0.3</reflection_coef><transmission_coef>0.6</transmission_coef>"
+                 "<refraction_coef>1.5</refraction_coef></properties></object>";
+    slabs += "</objects></scene>";
+    RayTree deep = traceXml(slabs, 41, 31, 20, 15, 12);
+    EXPECT_EQ(deep.rays.size(), size_t(gpu::kRayTreeMaxRays));
+    EXPECT_GT(deep.dropped, 0u);
+    const std::string deepText = rayTreeText(deep, loadSceneFromString(slabs, "slabs.xml"));
+    EXPECT_NE(deepText.find("(not fully recorded: "), std::string::npos) << deepText.substr(0, 300);
+}
+
 // --max-depth bounds the tree.
 TEST(RayTree, NoRayDeeperThanMaxDepth) {
     Scene scene = loadScene(sourceDir() / "scenes" / "several_mirrors.xml");

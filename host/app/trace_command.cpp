@@ -87,7 +87,8 @@ nlohmann::json rayTreeJson(const RayTree& tree, const Scene& scene) {
                                {"absorption", rgbJson(sr.absorption)},
                                {"diffuse", rgbJson(sr.diffuse)},
                                {"specular", rgbJson(sr.specular)},
-                               {"crossings", crossings}});
+                               {"crossings", crossings},
+                               {"dropped_crossings", sr.droppedCrossings}});
         }
         ray["shadow_rays"] = shadows;
         rays.push_back(ray);
@@ -98,6 +99,7 @@ nlohmann::json rayTreeJson(const RayTree& tree, const Scene& scene) {
             {"max_depth", tree.maxDepth},
             {"color", rgbJson(tree.color())},
             {"dropped", tree.dropped},
+            {"complete", tree.dropped == 0},
             {"rays", rays}};
 }
 

@@ -36,7 +36,8 @@ static_assert(sizeof(gpu::RayTreeShadowRay) == 128 && offsetof(gpu::RayTreeShado
               offsetof(gpu::RayTreeShadowRay, blockerT) == 92 && offsetof(gpu::RayTreeShadowRay, absorption) == 96 &&
               offsetof(gpu::RayTreeShadowRay, firstCrossing) == 108 &&
               offsetof(gpu::RayTreeShadowRay, crossingCount) == 112 &&
-              offsetof(gpu::RayTreeShadowRay, blockerMaterial) == 116);
+              offsetof(gpu::RayTreeShadowRay, blockerMaterial) == 116 &&
+              offsetof(gpu::RayTreeShadowRay, droppedCrossings) == 120);
 static_assert(sizeof(gpu::RayTreeCrossing) == 32 && offsetof(gpu::RayTreeCrossing, filterColour) == 0 &&
               offsetof(gpu::RayTreeCrossing, t) == 12 && offsetof(gpu::RayTreeCrossing, primitive) == 16 &&
               offsetof(gpu::RayTreeCrossing, material) == 20);
@@ -112,7 +113,8 @@ std::string rayTreeText(const RayTree& tree, const Scene& scene) {
                       std::to_string(tree.rays.size()) + " rays, " + std::to_string(tree.shadowRays.size()) +
                       " shadow rays\n";
     if (tree.dropped > 0)
-        out += "(" + std::to_string(tree.dropped) + " rays or crossings did not fit the record and are left out)\n";
+        out += "(not fully recorded: " + std::to_string(tree.dropped) +
+               " rays, shadow rays or crossings did not fit the record and are left out)\n";
     std::function<void(uint32_t, int)> line = [&](uint32_t i, int indent) {
         const gpu::RayTreeRay& r = tree.rays[i];
         std::string pad(size_t(2 * indent), ' ');
@@ -130,13 +132,15 @@ std::string rayTreeText(const RayTree& tree, const Scene& scene) {
             const gpu::RayTreeShadowRay& sr = tree.shadowRays[s];
             out += pad + "  shadow ray to light " + std::to_string(sr.light) + ": " + shadowOutcomeName(sr.outcome);
             if (sr.outcome == gpu::kShadowBlocked) out += " by " + objectLabel(scene, sr.blockerMaterial);
-            if (sr.outcome == gpu::kShadowFiltered) {
+            if (sr.outcome == gpu::kShadowFiltered && sr.crossingCount > 0) {
                 out += " by";
                 for (uint32_t c = sr.firstCrossing; c < sr.firstCrossing + sr.crossingCount && c < tree.crossings.size();
                      ++c)
                     out += " " + objectLabel(scene, tree.crossings[c].material) + " " +
                            rgb(tree.crossings[c].filterColour);
             }
+            if (sr.droppedCrossings > 0)
+                out += " (and " + std::to_string(sr.droppedCrossings) + " crossings not recorded)";
             out += "  diffuse " + rgb(sr.diffuse) + " specular " + rgb(sr.specular) + "\n";
         }
         for (uint32_t c : tree.children(i)) line(c, indent + 1);
