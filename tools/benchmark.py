@@ -168,7 +168,8 @@ def bench_from(args, plan, drivers, out):
     if args.skip_embree:
         anchor = None
     elif not os.access(anchor, os.X_OK):
-        print(f"benchmark.py: {anchor} not built (needs libembree-dev): no Embree anchor", file=sys.stderr)
+        print(f"benchmark.py: {anchor} not built (needs libembree-dev and -DWHITTED_BUILD_TESTS=ON): no Embree anchor",
+              file=sys.stderr)
         anchor = None
     return Bench(whitted=whitted, exporter=exporter if plan.povray else None, drivers=drivers, work=work,
                  anchor=anchor)
