@@ -161,7 +161,7 @@ def bench_from(args, plan, drivers, out):
             fail(f"{tool} not found: build first (cmake -S . -B {args.build} -DWHITTED_BUILD_TESTS=ON && "
                  f"cmake --build {args.build})", 1)
     if plan.povray and not shutil.which("povray"):
-        fail("povray not found: run tools/install_deps.sh, or pass --skip-povray", 1)
+        fail("povray not found: run tools/install_deps.sh --all, or pass --skip-povray", 1)
     work = os.path.join(out, "work")
     os.makedirs(work, exist_ok=True)
     anchor = os.path.join(args.build, "whitted_embree_anchor")
