@@ -158,6 +158,9 @@ WHITTED_CONST uint kBvhMaxNodes = kBvhLeafEntry;
 WHITTED_CONST uint kSpecShapeMask = 0;     // bit (1 << kShape*) set: the BVH holds that shape
 WHITTED_CONST uint kSpecTransparency = 1;  // nonzero: some material has kt > 0
 WHITTED_CONST uint kSpecListShapeMask = 2; // as kSpecShapeMask, for the primitives outside the BVH
+// The auxiliary outputs a render may ask for (FrameParams.options & (kOptionWriteAovs | kOptionWriteIds)), so that
+// a render without them compiles none of their code (shaders/whitted.comp; unset: all of them).
+WHITTED_CONST uint kSpecOutputOptions = 3;
 
 // FrameParams.options bit flags.
 WHITTED_CONST uint kOptionWriteAovs = 1u;

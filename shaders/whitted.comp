@@ -15,6 +15,14 @@
 
 layout(local_size_x = kWorkgroupSize, local_size_y = kWorkgroupSize, local_size_z = 1) in;
 
+// The auxiliary outputs this pipeline can write (host/render/device_policy.cpp, specializationFor): a render
+// without them leaves their code out of what the driver compiles.
+layout(constant_id = kSpecOutputOptions) const uint kOutputOptions = kOptionWriteAovs | kOptionWriteIds;
+const uint kWriteAovs = kOutputOptions & kOptionWriteAovs;
+const uint kWriteIds = kOutputOptions & kOptionWriteIds;
+// Nonzero when the render splits reflection and transmission by depth (--aov-bounces).
+const uint kSplitBounces = kOutputOptions >> kOptionAovBouncesShift;
+
 // cone: the ray cone's width at the ray's origin and its spread angle
 // (texture LOD, shaders/texture.glsl).
 struct PendingRay {
@@ -81,8 +89,11 @@ void addBounceSplit(uint component, uint depth, vec3 light) {
 // longest ray tree of each sample; with one loop a lane waits only at the
 // end. Each lane still adds its own samples in order, so the sums are
 // unchanged.
+// With `probe`, the ray through the pixel's centre is traced first, through the same traceClosest as the
+// samples (one copy of the traversal for the driver to compile), and what it hits first goes to `ids`
+// (object, material; kNoObject for none).
 void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, inout SampleResult result,
-                  inout SampleSpread spread, inout uvec3 rayCount) {
+                  inout SampleSpread spread, inout uvec3 rayCount, bool probe, inout uvec2 ids) {
     PendingRay stack[kRayStackSize];
     int top = 0;
     uint maxDepth = params.maxDepth;
@@ -97,8 +108,14 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
     vec2 pixelCone = orthographic ? vec2(2.0 * length(params.up) / size.y, 0.0)
                                   : vec2(0.0, atan(2.0 * length(params.up) / size.y));
 
-    while (top > 0 || nextSample < end) {
-        if (top == 0) {
+    while (probe || top > 0 || nextSample < end) {
+        bool probing = probe;
+        if (probing) {
+            Ray ray = generateCameraRay(vec2(pixel) + vec2(0.5), size, params.eye, params.forward, params.right,
+                                        params.up, params.projection);
+            stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u, pixelCone);
+            probe = false;
+        } else if (top == 0) {
             if (nextSample > first) addToSpread(spread, sampleColor, sampleObject, nextSample == first + 1u);
             sampleColor = vec3(0.0);
             sampleObject = kNoObject;
@@ -114,7 +131,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         }
         PendingRay pending = stack[--top];
 #ifdef WHITTED_RAY_TREE
-        rayTreePop(top);
+        if (!probing) rayTreePop(top);
 #endif
         Ray ray = pending.ray;
         if (pending.depth > 0u) rayCount.z += 1u;
@@ -122,7 +139,12 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
 #ifdef WHITTED_PROFILE_CAMERA_ONLY  // tools/profile_shader.sh: camera rays made, none traced
         continue;
 #endif
-        if (!traceClosest(ray, 3.0e38, hit)) continue;  // background is black
+        bool found = traceClosest(ray, 3.0e38, hit);
+        if (probing) {
+            if (found) ids = uvec2(primitives[hit.primitive].extra1, primitives[hit.primitive].material);
+            continue;
+        }
+        if (!found) continue;  // background is black
 #ifdef WHITTED_PROFILE_NO_SHADING  // tools/profile_shader.sh: camera rays traced, not shaded
         result.components[0] += abs(hit.normal);
         continue;
@@ -296,10 +318,10 @@ void main() {
     bool overwrite = (flags & kTileOverwrite) != 0u;
     uvec2 outputOrigin = tileParams.outputOrigin, outputSize = tileParams.outputSize;
     bool inRect = all(greaterThanEqual(pixel, outputOrigin)) && all(lessThan(pixel, outputOrigin + outputSize));
-    if ((params.options & kOptionWriteAovs) != 0u && inRect) {
+    if ((params.options & kWriteAovs) != 0u && inRect) {
         // The split layers' sums start here (cleared or kept, with the
         // sample count in w, as accumulate() does for the other layers).
-        gSplitBounces = params.options >> kOptionAovBouncesShift;
+        gSplitBounces = kSplitBounces == 0u ? 0u : params.options >> kOptionAovBouncesShift;
         gSplitPixels = outputSize.x * outputSize.y;
         gSplitPixel = (pixel.y - outputOrigin.y) * outputSize.x + (pixel.x - outputOrigin.x);
         for (uint k = 0u; k < 2u * gSplitBounces; ++k) {
@@ -308,7 +330,15 @@ void main() {
             outputLayers[i] = overwrite ? samples : outputLayers[i] + samples;
         }
     }
-    traceSamples(pixel, first, first + count, tileParams.patternSize, pixelSeed, result, spread, rayCount);
+    // The object and material masks: what the ray through the pixel's centre
+    // hits first, traced once, by the dispatch that holds the pixel's sample 0
+    // (the adaptive refinements' lists never do), and stored, not summed, so
+    // no sample pattern or filter blends ids. This probe is not counted among
+    // the camera rays.
+    bool probe = (params.options & kWriteIds) != 0u && inRect && first == 0u && (flags & kTileList) == 0u;
+    uvec2 ids = uvec2(kNoObject);
+    traceSamples(pixel, first, first + count, tileParams.patternSize, pixelSeed, result, spread, rayCount, probe,
+                 ids);
     vec3 color = result.components[0] + result.components[1] + result.components[2] +
                  result.components[3] + result.components[4];
 
@@ -319,26 +349,14 @@ void main() {
         uint outPixels = outputSize.x * outputSize.y;
         uint o = (pixel.y - outputOrigin.y) * outputSize.x + (pixel.x - outputOrigin.x);
         accumulate(kAovColor, outPixels, o, vec4(color, float(count)), overwrite);
-        if ((params.options & kOptionWriteAovs) != 0u) {
+        if ((params.options & kWriteAovs) != 0u) {
             for (uint c = 0u; c < 5u; ++c)
                 accumulate(kAovAmbient + c, outPixels, o, vec4(result.components[c], float(count)), overwrite);
             accumulate(kAovNormal, outPixels, o, result.normal, overwrite);
             accumulate(kAovCoefs0, outPixels, o, result.coefs0, overwrite);
             accumulate(kAovCoefs1, outPixels, o, result.coefs1, overwrite);
         }
-        // The object and material masks: what the ray through the pixel's
-        // centre hits first, traced once, by the dispatch that holds the
-        // pixel's sample 0 (the adaptive refinements' lists never do), and
-        // stored, not summed, so no sample pattern or filter blends ids.
-        // This probe is not counted among the camera rays.
-        if ((params.options & kOptionWriteIds) != 0u && first == 0u && (flags & kTileList) == 0u) {
-            vec2 size = vec2(params.width, params.height);
-            Ray ray = generateCameraRay(vec2(pixel) + vec2(0.5), size, params.eye, params.forward, params.right,
-                                        params.up, params.projection);
-            Hit hit;
-            uvec2 ids = uvec2(kNoObject);
-            if (traceClosest(ray, 3.0e38, hit))
-                ids = uvec2(primitives[hit.primitive].extra1, primitives[hit.primitive].material);
+        if (probe) {  // the object and material masks (traceSamples traced the probe)
             uint idLayer = kAovCount + 2u * (params.options >> kOptionAovBouncesShift);
             outputLayers[idLayer * outPixels + o] = vec4(uintBitsToFloat(ids.x), uintBitsToFloat(ids.y), 0.0, 0.0);
         }

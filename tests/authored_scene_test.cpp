@@ -127,7 +127,7 @@ TEST(AuthoredGltf, CameraThroughNodeHierarchy) {
 // its emission texture, with the material's emissiveFactor as emission.
 TEST(AuthoredGltf, RealFileEmissiveTexturesAreMapped) {
     fs::path model = assimpTestModel("glTF2/ClearCoat-glTF/ClearCoatTest.gltf");
-    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
+    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh --all)";
     Json j = Json::parse(std::ifstream(model));
     std::vector<glm::dvec3> factors;
     for (const Json& m : j["materials"])
@@ -151,7 +151,7 @@ TEST(AuthoredGltf, RealFileEmissiveTexturesAreMapped) {
 // (turned 45 degrees about x) spans exactly its projection.
 TEST(AuthoredGltf, CamerasGltfRendersThroughItsOwnCameras) {
     fs::path model = assimpTestModel("glTF2/cameras/Cameras.gltf");
-    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
+    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh --all)";
     Scene perspective = loadSceneOrModel(model);
     EXPECT_EQ(perspective.camera.projection, Camera::Projection::Perspective);
     EXPECT_EQ(perspective.camera.eye, glm::dvec3(0.5, 0.5, 3.0));
@@ -637,7 +637,7 @@ TEST(AuthoredObj, MirrorShowsTheObjectInFrontAndGlassRefracts) {
 // with its textures.
 TEST(AuthoredObj, SpiderRendersTextured) {
     fs::path model = assimpTestModel("OBJ/spider.obj");
-    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
+    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh --all)";
     Scene scene = loadSceneOrModel(model);
     ASSERT_GE(scene.objects.size(), 5u);  // its parts (one per material used) and the floor
     for (size_t i = 0; i + 1 < scene.objects.size(); ++i) {

@@ -160,7 +160,7 @@ TEST(Convert, ConvertedSceneRendersBitIdentically) {
     fs::create_directories(generated);
     int n = 0;
     for (const fs::path& input : inputs(generated)) {
-        ASSERT_TRUE(fs::exists(input)) << input << " (assimp-testmodels: tools/install_deps.sh)";
+        ASSERT_TRUE(fs::exists(input)) << input << " (assimp-testmodels: tools/install_deps.sh --all)";
         std::string stem = "case" + std::to_string(n++);
         fs::path xml = dir / (stem + ".xml");
         CommandRun run = whitted("convert '" + input.string() + "' -o " + xml.string(), dir);

@@ -39,7 +39,7 @@
 // PovrayCrossCheck.ComparedScenesInScenesFolder pins which scenes of scenes/
 // are compared.
 //
-// povray must be installed (tools/install_deps.sh does it; CI runs that):
+// povray must be installed (tools/install_deps.sh --all does it; CI runs that):
 // without it these tests FAIL, they do not skip.
 //
 // On failure, build/tests/output/povray/ holds NAME.ours.png, NAME.povray.png,
@@ -214,7 +214,7 @@ std::string povrayMissing() {
         CommandRun r = run("povray --version");
         if (r.status == 0 && r.output.find("POV-Ray 3.7") != std::string::npos) return std::string();
         return "POV-Ray 3.7 (`povray`) is needed for the cross-check and did not run (exit status " +
-               std::to_string(r.status) + "): install it with tools/install_deps.sh (Debian package povray)\n" +
+               std::to_string(r.status) + "): install it with tools/install_deps.sh --all (Debian package povray)\n" +
                r.output.substr(0, 500);
     }();
     return why;

@@ -41,14 +41,14 @@ TEST(QuickLook, SceneFilesAreTheXmlOnes) {
 
 // The model alone (floor left out), 160x120: its pixels are a reasonable
 // central part of the image and touch no border. Our test meshes, and glTF
-// binaries (y up) from Debian's assimp-testmodels (tools/install_deps.sh).
+// binaries (y up) from Debian's assimp-testmodels (tools/install_deps.sh --all).
 TEST(QuickLook, ModelIsInFrame) {
     const fs::path meshes = sourceDir() / "tests" / "meshes", gltf = assimpTestModel("glTF2");
     for (fs::path model : {meshes / "pyramid.obj", meshes / "pyramid.ply", meshes / "uv_sphere_12x24.obj",
                            gltf / "BoxTextured-glTF-Binary" / "BoxTextured.glb",
                            gltf / "2CylinderEngine-glTF-Binary" / "2CylinderEngine.glb"}) {
         SCOPED_TRACE(model.string());
-        ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
+        ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh --all)";
         Scene scene = quickLookScene(model);
         // The model (one object per material of a file with its own
         // materials, scenes/README.md "Model files"), then the floor.
@@ -126,7 +126,7 @@ TEST(QuickLook, WrittenSceneRendersTheSameImage) {
 TEST(QuickLook, WrittenSceneKeepsTheModelsMaterials) {
     fs::path dir = scratchDir("materials");
     const fs::path model = assimpTestModel("glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
-    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
+    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh --all)";
     fs::copy_file(model, dir / "box.glb");
     Scene scene = quickLookScene(dir / "box.glb");
     ASSERT_TRUE(scene.objects[0].material.diffuseTexture) << "the file's texture is not used";
@@ -149,7 +149,7 @@ TEST(QuickLook, WrittenSceneKeepsTheModelsMaterials) {
 TEST(QuickLook, PartsOfOneModelAreEditedTogether) {
     fs::path dir = scratchDir("parts");
     const fs::path model = assimpTestModel("glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb");
-    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh)";
+    ASSERT_TRUE(fs::exists(model)) << "missing: install assimp-testmodels (tools/install_deps.sh --all)";
     fs::copy_file(model, dir / "engine.glb");
     Scene scene = quickLookScene(dir / "engine.glb");
     size_t parts = scene.objects.size() - 1;  // the floor last

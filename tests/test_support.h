@@ -41,7 +41,7 @@ std::string base64(const std::vector<unsigned char>& bytes);
 // glass: 6, fresnel_glass: 7, the last with a texture named by a Windows
 // path, "tex dir\quad.png", written beside them). Returns scene.obj.
 std::filesystem::path writeIlluminationObj(const std::filesystem::path& dir);
-// A model of Debian's assimp-testmodels (tools/install_deps.sh) by its path
+// A model of Debian's assimp-testmodels (tools/install_deps.sh --all) by its path
 // under /usr/share/assimp/models, e.g. "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb".
 std::filesystem::path assimpTestModel(const std::string& relative);
 

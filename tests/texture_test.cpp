@@ -468,7 +468,7 @@ TEST(NormalMap, ModelFileTangentsCarryTheTilt) {
 // ---- Materials from model files ------------------------------------------
 
 // Khronos' BoxTextured sample in Debian's assimp-testmodels package (see
-// tools/install_deps.sh): a cube whose glTF material has a base-colour
+// tools/install_deps.sh --all): a cube whose glTF material has a base-colour
 // texture (the Cesium logo: white, blue and green) embedded in the GLB.
 const fs::path kBoxTextured = assimpTestModel("glTF2/BoxTextured-glTF-Binary/BoxTextured.glb");
 
@@ -488,7 +488,7 @@ std::string boxXml(const std::string& colour) {
 
 TEST(ModelMaterials, GlbBaseColourTextureIsUsedWhenTheSceneSetsNoColour) {
     ASSERT_TRUE(fs::exists(kBoxTextured))
-        << kBoxTextured << " is missing: install assimp-testmodels (tools/install_deps.sh)";
+        << kBoxTextured << " is missing: install assimp-testmodels (tools/install_deps.sh --all)";
     MeshFileData data = readMeshFile(kBoxTextured, MeshFileMaterials::Read);
     ASSERT_EQ(data.triangleMaterials.size(), data.triangles.size());
     ASSERT_LT(data.triangleMaterials[0], data.materials.size());
@@ -604,7 +604,7 @@ TEST(ViewTexture, TextureFileHotReloadsAndScaleEdits) {
 // get it as their normal map, read as linear data (not sRGB-decoded).
 TEST(ModelMaterials, GltfNormalTextureBecomesTheNormalMap) {
     const fs::path model = assimpTestModel("glTF2/ClearCoat-glTF/ClearCoatTest.gltf");
-    ASSERT_TRUE(fs::exists(model)) << model << " is missing: install assimp-testmodels (tools/install_deps.sh)";
+    ASSERT_TRUE(fs::exists(model)) << model << " is missing: install assimp-testmodels (tools/install_deps.sh --all)";
     MeshFileData data = readMeshFile(model, MeshFileMaterials::Read);
     int withNormals = 0;
     for (const MeshFileMaterial& m : data.materials)

@@ -4,7 +4,7 @@
   tools/benchmark.py [--quick] [--only NAME[,NAME..]] [--skip-povray] [--sizes small,full]
                      [--full-scenes NAME[,NAME..]|all] [--skip-fixed] [--skip-equal-quality] [--skip-embree]
                      [--driver-files ICD.json|default [--label NAME]]... [--fresh-references]
-                     [--build DIR] [--out DIR]
+                     [--build DIR] [--out DIR] [--skip-cold-start | --cold-start-only]
 
 Two parts, both against POV-Ray measured in the same run (whitted and POV-Ray runs interleaved scene by scene,
 so load from other jobs hits both):
@@ -41,6 +41,11 @@ Warm start: `whitted render room.xml --width 8 --height 8 --aov none` after one 
 PPM and into a PNG (both written without loading OpenImageIO), whole-process wall time: the fixed cost of a render
 on a machine that has run it before.
 
+Cold start: README command 1's render, `whitted render scenes/room.xml` (default size, sampling and auxiliary
+images), 5 times per driver with Mesa's shader cache and whitted's pipeline cache in a new empty folder, so that the
+driver compiles the tracer as on a machine that never ran whitted; whole-process wall time, and after each the same
+run again with the caches it filled (the difference is the compilation). `--cold-start-only` runs this part alone.
+
 Drivers: --driver-files ICD.json (repeatable; `default` = the Vulkan loader's choice) runs whitted with
 VK_DRIVER_FILES=ICD.json and LD_LIBRARY_PATH prefixed by the folder of the JSON's absolute ICD.library_path; --label
 names it (default: from the driver whitted reports, e.g. mesa-25.0.7). Every driver's whitted runs are interleaved
@@ -65,8 +70,8 @@ sys.dont_write_bytecode = True  # a run leaves no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # tools/bench, from any working directory
 from bench import ROOT, fail  # noqa: E402 (after the path is set)
 from bench.check import quick_check  # noqa: E402
-from bench.parts import Bench, drag_proxy, run_scenes, warm_start  # noqa: E402
-from bench.plan import DRAG_REPEATS, STARTUP_REPEATS, Plan, equal_quality_sizes, scene_set, size_set  # noqa: E402
+from bench.parts import Bench, cold_start, drag_proxy, run_scenes, warm_start  # noqa: E402
+from bench.plan import COLD_REPEATS, DRAG_REPEATS, STARTUP_REPEATS, Plan, equal_quality_sizes, scene_set, size_set  # noqa: E402
 from bench.report import cpu_model, document, publish  # noqa: E402
 from bench.runners import Driver  # noqa: E402
 
@@ -92,6 +97,9 @@ def parse_args():
     parser.add_argument("--equal-quality-size", default=None, metavar="WxH", help="one size for every scene's "
                         "equal-quality part [room 1920x1080, the others 640x480]")
     parser.add_argument("--fresh-references", action="store_true", help="render the 64-sample references again")
+    parser.add_argument("--skip-cold-start", action="store_true", help="no cold-start part")
+    parser.add_argument("--cold-start-only", action="store_true", help="only the cold-start part (no POV-Ray, no "
+                        "other part)")
     parser.add_argument("--build", default=os.path.join(ROOT, "build"), help="build folder [build]")
     parser.add_argument("--out", default=None, help="output folder [BUILD/benchmark]")
     try:
@@ -102,6 +110,11 @@ def parse_args():
 
 def plan_from(args):
     """The scenes and sizes the options choose; an unknown name or a bad size fails with status 2."""
+    if args.cold_start_only:
+        if args.skip_cold_start or args.only not in ([], ["room"]):
+            fail("--cold-start-only: it renders the room only; no --skip-cold-start, no other --only")
+        args.only, args.skip_fixed, args.skip_equal_quality, args.skip_povray = ["room"], True, True, True
+        args.skip_embree = True
     scenes = scene_set(args.quick)
     sizes = size_set(args.quick)
     only = [n for item in args.only for n in item.split(",") if n]
@@ -126,7 +139,8 @@ def plan_from(args):
     return Plan(quick=args.quick, scenes={n: v for n, v in scenes.items() if not only or n in only},
                 sizes=[] if args.skip_fixed else [(s, sizes[s]) for s in chosen_sizes], full_scenes=full_scenes,
                 equal_quality_sizes=sizes_eq, fixed=not args.skip_fixed, equal_quality=not args.skip_equal_quality,
-                povray=not args.skip_povray, fresh_references=args.fresh_references)
+                povray=not args.skip_povray, fresh_references=args.fresh_references,
+                cold_start=not args.skip_cold_start and (not only or "room" in only))
 
 
 def drivers_from(args):
@@ -144,16 +158,18 @@ def bench_from(args, plan, drivers, out):
     exporter = os.path.join(args.build, "whitted_povray_export")
     for tool in [whitted] + ([exporter] if plan.povray else []):
         if not os.access(tool, os.X_OK):
-            fail(f"{tool} not found: build first (cmake --build {args.build})", 1)
+            fail(f"{tool} not found: build first (cmake -S . -B {args.build} -DWHITTED_BUILD_TESTS=ON && "
+                 f"cmake --build {args.build})", 1)
     if plan.povray and not shutil.which("povray"):
-        fail("povray not found: run tools/install_deps.sh, or pass --skip-povray", 1)
+        fail("povray not found: run tools/install_deps.sh --all, or pass --skip-povray", 1)
     work = os.path.join(out, "work")
     os.makedirs(work, exist_ok=True)
     anchor = os.path.join(args.build, "whitted_embree_anchor")
     if args.skip_embree:
         anchor = None
     elif not os.access(anchor, os.X_OK):
-        print(f"benchmark.py: {anchor} not built (needs libembree-dev): no Embree anchor", file=sys.stderr)
+        print(f"benchmark.py: {anchor} not built (needs libembree-dev and -DWHITTED_BUILD_TESTS=ON): no Embree anchor",
+              file=sys.stderr)
         anchor = None
     return Bench(whitted=whitted, exporter=exporter if plan.povray else None, drivers=drivers, work=work,
                  anchor=anchor)
@@ -186,10 +202,14 @@ def main():
     warm = None
     if plan.fixed and "room" in plan.scenes:
         warm = warm_start(bench, 1 if plan.quick else STARTUP_REPEATS)
+    cold = None
+    if plan.cold_start:
+        cold = cold_start(bench, 1 if plan.quick else COLD_REPEATS)
     elapsed = time.monotonic() - started
 
     documents = {d.label: document(d, drivers, cpu, plan, elapsed, results[d.label], eq_results[d.label],
-                                   drag and drag[d.label], warm and warm[d.label]) for d in drivers}
+                                   drag and drag[d.label], warm and warm[d.label],
+                                   cold and cold[d.label]) for d in drivers}
     publish(documents, out, elapsed)
     if plan.quick:
         quick_check(documents, out, plan)

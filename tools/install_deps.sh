@@ -1,32 +1,59 @@
 #!/usr/bin/env bash
-# Installs every build and test dependency of whitted from Debian 12 packages.
-# Safe to run repeatedly: apt-get skips what is already installed.
+# Installs whitted's dependencies from Debian 12 packages.
+#   tools/install_deps.sh        what building whitted and rendering need (README command 1)
+#   tools/install_deps.sh --all  also what the tests, the fuzzers, the benchmark and the Python module need
+#                                (tools/run_tests.sh runs this)
+# Safe to run repeatedly: only missing packages are installed. Every package is
+# listed once, below, with what needs it.
 set -euo pipefail
 
+all=0
+case ${1:-} in
+  "") ;;
+  --all) all=1 ;;
+  *) echo "usage: tools/install_deps.sh [--all]" >&2; exit 2 ;;
+esac
+
+# ---- The renderer: `cmake --build build` and `build/whitted render` ----
 packages=(
-  build-essential cmake ninja-build pkg-config
-  libvulkan-dev vulkan-tools vulkan-validationlayers
-  glslang-tools spirv-tools
-  libglfw3-dev libglm-dev libtinyxml2-dev libopenimageio-dev openimageio-tools
-  libpng-dev  # PNG written without the image module (host/io/png_file.cpp)
-  libgtest-dev libcli11-dev
-  libembree-dev  # the benchmark's limit anchor (tools/embree_anchor.cpp); whitted itself does not link it
-  povray xvfb xauth
-  assimp-testmodels  # real models for tests (BoxTextured.glb, ClearCoatTest.gltf, quick looks)
-  python3-matplotlib
-  clang-14 libfuzzer-14-dev libclang-rt-14-dev
-  libassimp-dev
-  libimgui-dev xdotool
-  nlohmann-json3-dev
-  python3-distributed python3-openimageio
+  build-essential cmake ninja-build pkg-config         # the compiler and the build
+  libvulkan-dev                                        # the Vulkan loader and headers (host/vk/)
+  glslang-tools                                        # shaders/*.comp to SPIR-V at build time
+  spirv-tools                                          # spirv-opt: less SPIR-V for the driver to compile
+  libglm-dev libtinyxml2-dev libcli11-dev nlohmann-json3-dev  # vectors, the XML scenes, the command line, the render record
+  libopenimageio-dev                                   # EXR/TIFF/JPEG and textures (the image module, host/io/)
+  libpng-dev                                           # PNG written without the image module (host/io/png_file.cpp)
+  libassimp-dev                                        # model files: OBJ, glTF, PLY ... (host/io/mesh_file.cpp)
+  libglfw3-dev libimgui-dev                            # `whitted view`, the live window (host/view/)
+)
+# Packages taken from bookworm-backports (the standard Debian route for a
+# newer version). Mesa 25's lavapipe, the Vulkan device of a machine without
+# a GPU, runs the same shader 3-8x faster than Debian 12's 22.3 and offers
+# VK_KHR_ray_query; whitted stays correct on 22.3, but a first render should
+# not be the slow one, so it is in the default set.
+backports=(mesa-vulkan-drivers)
+
+# ---- --all: the tests and tools (tools/run_tests.sh) ----
+test_packages=(
+  libgtest-dev                                         # build/tests/whitted_tests (tests/CMakeLists.txt)
+  vulkan-validationlayers                              # every test renders with the Khronos validation layer (--validate)
+  vulkan-tools                                         # vulkaninfo, to see which devices a failing test had
+  openimageio-tools                                    # oiiotool, the tests' independent reader (tests/cli_test.cpp)
+  xvfb xauth xdotool                                   # `whitted view` under a virtual X server (tests/view_test.cpp)
+  assimp-testmodels                                    # real models for the tests and the glTF/OBJ fuzzers' seeds
+  povray                                               # the POV-Ray cross-check and the benchmark's opponent
+  libembree-dev                                        # the benchmark's limit anchor (tools/embree_anchor.cpp)
+  python3-matplotlib                                   # the benchmark's plot (tools/bench/plot.py)
+  python3-distributed python3-openimageio              # the render farm and its test (tools/farm.py, tests/farm_test.py)
+  clang-14 libfuzzer-14-dev libclang-rt-14-dev         # the fuzz targets (tools/run_fuzzer.sh)
   pybind11-dev python3-pytest python3-numpy python3-venv python3-pip  # the Python module (host/python/), its tests
 )
-
-# Packages taken from bookworm-backports (the standard Debian route for a
-# newer version): Mesa 25's lavapipe is 3-8x faster than Debian 12's 22.3 on
-# the same shader and offers VK_KHR_ray_query. whitted stays correct on 22.3.
-# scikit-build-core (`pip install .`, pyproject.toml) exists only there.
-backports=(mesa-vulkan-drivers python3-scikit-build-core)
+# scikit-build-core (`pip install .`, pyproject.toml; tests/python) exists only in backports.
+test_backports=(python3-scikit-build-core)
+if ((all)); then
+  packages+=("${test_packages[@]}")
+  backports+=("${test_backports[@]}")
+fi
 backports_list=/etc/apt/sources.list.d/whitted-bookworm-backports.sources
 
 SUDO=""
@@ -56,13 +83,11 @@ if ((${#missing[@]} + ${#missing_bpo[@]})); then
 fi
 
 # Dear ImGui's GLFW and Vulkan back ends ship as example sources under
-# /usr/share/doc (CMakeLists.txt compiles them). Minimal images often tell
+# /usr/share/doc (host/CMakeLists.txt compiles them). Minimal images often tell
 # dpkg to skip /usr/share/doc; then take them from the package itself.
 backends=/usr/share/doc/libimgui-dev/examples/backends
 if [ ! -f "$backends/imgui_impl_vulkan.cpp" ] || [ ! -f "$backends/imgui_impl_glfw.cpp" ]; then
   echo "install_deps: restoring the ImGui back-end sources into $backends" >&2
-  SUDO=""
-  [ "$(id -u)" -eq 0 ] || SUDO=sudo
   work=$(mktemp -d)
   chmod 755 "$work"  # apt downloads as the _apt user
   (cd "$work" && apt-get download -qq libimgui-dev && dpkg-deb -x libimgui-dev_*.deb extracted)

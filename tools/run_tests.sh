@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
-# Runs every test: installs what is missing, builds, runs the ctest suite
+# Runs every test: installs what is missing (tools/install_deps.sh --all),
+# builds everything (WHITTED_BUILD_TESTS), runs the ctest suite
 # (lavapipe, validation layer on), then the extra suites below.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-tools/install_deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DWHITTED_WARNINGS_AS_ERRORS=ON
+tools/install_deps.sh --all
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DWHITTED_WARNINGS_AS_ERRORS=ON -DWHITTED_BUILD_TESTS=ON
 cmake --build build
 ctest --test-dir build --output-on-failure
 # The Python module (tests/python/): the same pixels as the CLI, uploads,

@@ -114,11 +114,13 @@ ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, 
                                                                : ShaderVariant::Addresses;
 }
 
-// The shapes in the BVH, any transparency, the shapes outside it (planes).
-// What a scene lacks compiles out (on lavapipe every branch costs, taken or
+// The shapes in the BVH, any transparency, the shapes outside it (planes),
+// the auxiliary outputs. What a scene lacks compiles out (on lavapipe every branch costs, taken or
 // not: shaders/intersect.glsl).
 Specialization specializationFor(const GpuScene& scene) {
-    Specialization constants = {0u, 0u, 0u};
+    // The auxiliary outputs and the number of depth-split layers (bits 8..15).
+    constexpr uint32_t kOutputOptions = gpu::kOptionWriteAovs | gpu::kOptionWriteIds | 0xffu << gpu::kOptionAovBouncesShift;
+    Specialization constants = {0u, 0u, 0u, scene.params.options & kOutputOptions};
     // The csg leaves after the listed primitives are intersected by
     // intersectCsg only.
     size_t listEnd = scene.params.firstListPrimitive + scene.params.listPrimitiveCount;

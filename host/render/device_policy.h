@@ -70,8 +70,11 @@ ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, 
                                bool fitted = true);
 
 // The specialization constants for a packed scene, in the order of
-// gpu::kSpecShapeMask, gpu::kSpecTransparency, gpu::kSpecListShapeMask.
-using Specialization = std::array<uint32_t, 3>;
+// gpu::kSpecShapeMask, gpu::kSpecTransparency, gpu::kSpecListShapeMask,
+// gpu::kSpecOutputOptions (the auxiliary outputs its settings ask for: a
+// render without them compiles none of their code, the ids' probe ray
+// included).
+using Specialization = std::array<uint32_t, 4>;
 Specialization specializationFor(const GpuScene& scene);
 
 }  // namespace whitted

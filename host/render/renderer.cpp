@@ -175,8 +175,9 @@ void Renderer::buildPipeline(std::optional<Specialization> constants) {
     specialization_ = constants ? *constants : specializationFor(scene_);
     const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
                                                   {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
-                                                  {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
-    vk::SpecializationInfo specialization{.mapEntryCount = 3, .pMapEntries = entries,
+                                                  {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)},
+                                                  {gpu::kSpecOutputOptions, 3 * sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo specialization{.mapEntryCount = 4, .pMapEntries = entries,
                                           .dataSize = sizeof(specialization_), .pData = specialization_.data()};
     std::span<const uint32_t> spirv = embeddedTracer(shaderVariant_);
 #ifdef WHITTED_DEVELOPER

@@ -62,6 +62,11 @@ def problems(label, document, plan):
         bad.append(f"{label}: no equal-quality results")
     if document["drag_proxy"] and not all(t > 0 for t in document["drag_proxy"]["render_s"]):
         bad.append(f"{label}: drag proxy render times {document['drag_proxy']['render_s']}")
+    cold = document.get("cold_start")
+    if cold and not all(r["wall_s"] > 0 for r in cold["cold"] + cold["warm"]):
+        bad.append(f"{label}: cold start times {cold['cold']} {cold['warm']}")
+    if plan.cold_start and not cold:
+        bad.append(f"{label}: no cold-start results")
     if not document["cpu_model"] or not document["driver"]:
         bad.append(f"{label}: no CPU model or driver")
     return bad

@@ -5,13 +5,16 @@ import dataclasses
 import hashlib
 import json
 import os
+import shutil
 import statistics
 import sys
+import tempfile
 
 from .measures import clean, psnr
 from .plan import (DRAG_SIZE, STARTUP_SIZE, MAX_DEPTH, POVRAY_ADAPTIVE, POVRAY_REFERENCE, POVRAY_THRESHOLDS, PSNR_TARGET_DB, ROOM,
                    WHITTED_REFERENCE, WHITTED_TRIES, povray_fixed_antialias)
-from .runners import export_pov, make_scene, povray_version, run_anchor, run_povray, run_whitted, sha256_file
+from .measures import read_record
+from .runners import export_pov, make_scene, povray_version, run, run_anchor, run_povray, run_whitted, sha256_file
 
 
 @dataclasses.dataclass
@@ -239,4 +242,39 @@ def warm_start(bench, repeats):
             w = walls[(d.label, ext)]
             out[d.label][ext] = {"wall_s": w, "wall_median_s": statistics.median(w), "wall_min_s": min(w),
                                  "pipeline_s": stages[(d.label, ext)]}
+    return out
+
+
+def cold_start(bench, repeats):
+    """Whole-process wall time of README command 1's render, `whitted render scenes/room.xml` (default size,
+    sampling and auxiliary images), on a machine that has never run it: Mesa's shader cache and whitted's pipeline
+    cache both in a new empty folder (XDG_CACHE_HOME, MESA_SHADER_CACHE_DIR, WHITTED_PIPELINE_CACHE), so that the
+    driver compiles the tracer. Each cold run is followed by a warm one with the same caches (the command run a
+    second time); cold minus warm is the compilation. `repeats` pairs, interleaved between drivers."""
+    progress("cold start")
+    cold = {d.label: [] for d in bench.drivers}
+    warm = {d.label: [] for d in bench.drivers}
+    for _ in range(repeats):
+        for d in bench.drivers:
+            caches = tempfile.mkdtemp(prefix="whitted-cold-", dir=bench.work)
+            env = dict(d.env, XDG_CACHE_HOME=caches, MESA_SHADER_CACHE_DIR=os.path.join(caches, "mesa"),
+                       WHITTED_PIPELINE_CACHE=os.path.join(caches, "whitted"))
+            env.pop("MESA_SHADER_CACHE_DISABLE", None)
+            for runs, name in ((cold, "cold"), (warm, "warm")):
+                image = os.path.join(bench.work, f"{name}_{d.label}.png")
+                status, output, wall, _ = run([bench.whitted, "render", ROOM, "-o", image, "-q"], env=env)
+                if status != 0:
+                    fail(f"whitted failed on {ROOM} with driver {d.label} (exit {status}):\n{output}", 1)
+                timings = read_record(image)["timings_s"]
+                runs[d.label].append({"wall_s": wall, "pipeline_s": timings["pipeline"],
+                                      "render_s": timings["render"]})
+            shutil.rmtree(caches, ignore_errors=True)
+    out = {}
+    for d in bench.drivers:
+        cold_walls = [r["wall_s"] for r in cold[d.label]]
+        warm_walls = [r["wall_s"] for r in warm[d.label]]
+        out[d.label] = {"scene": "room", "command": "whitted render scenes/room.xml", "cold": cold[d.label],
+                        "warm": warm[d.label], "cold_wall_median_s": statistics.median(cold_walls),
+                        "warm_wall_median_s": statistics.median(warm_walls),
+                        "compile_median_s": statistics.median(c - w for c, w in zip(cold_walls, warm_walls))}
     return out

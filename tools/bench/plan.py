@@ -19,6 +19,7 @@ DRAG_SIZE = (640, 360)
 DRAG_REPEATS = 5
 STARTUP_SIZE = (8, 8)  # the warm-start part: the fixed cost of a render
 STARTUP_REPEATS = 7
+COLD_REPEATS = 5  # the cold-start part: README command 1's render with empty caches
 
 
 @dataclasses.dataclass
@@ -33,6 +34,7 @@ class Plan:
     equal_quality: bool
     povray: bool
     fresh_references: bool
+    cold_start: bool = True  # the cold-start part runs (when the room is among the scenes)
 
 
 def scene_set(quick):

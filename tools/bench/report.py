@@ -27,7 +27,7 @@ def cpu_model():
     return model or platform.processor() or "?", flags or []
 
 
-def document(driver, drivers, cpu, plan, elapsed, results, equal_quality, drag, warm):
+def document(driver, drivers, cpu, plan, elapsed, results, equal_quality, drag, warm, cold=None):
     """One driver's document: the machine, the driver, its results, the ratios and the targets' verdicts."""
     model, simd = cpu
     out = {"created": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "host": platform.node(),
@@ -36,6 +36,7 @@ def document(driver, drivers, cpu, plan, elapsed, results, equal_quality, drag, 
            "driver_files": driver.files, "ld_library_path": driver.env.get("LD_LIBRARY_PATH") if driver.files else None,
            "drivers_in_run": [x.label for x in drivers], "benchmark_wall_s": elapsed,
            "results": results, "equal_quality": equal_quality, "drag_proxy": drag, "warm_start": warm,
+           "cold_start": cold,
            "ratios": ratios(results, plan.sizes)}
     out["targets"] = targets(out)
     return out
@@ -88,6 +89,11 @@ def print_summary(document):
         print(f"warm start  {warm['width']}x{warm['height']} whole process: PPM median "
               f"{warm['ppm']['wall_median_s'] * 1000:.0f} ms, PNG median {warm['png']['wall_median_s'] * 1000:.0f} ms "
               f"of {len(warm['ppm']['wall_s'])}", flush=True)
+    cold = document.get("cold_start")
+    if cold:
+        print(f"cold start  {cold['command']}, empty shader caches, whole process: median "
+              f"{cold['cold_wall_median_s']:.2f} s; the same run again {cold['warm_wall_median_s']:.2f} s; "
+              f"compilation {cold['compile_median_s']:.2f} s (median of {len(cold['cold'])})", flush=True)
     for name, value in document["ratios"].items():
         print(f"{name}: {value:.2f}", flush=True)
     for t in document["targets"]:
