@@ -155,3 +155,27 @@ def test_bad_values_name_the_field(call, args, field, error):
         whitted.Material(diffuse=2)
     with pytest.raises(TypeError, match="unknown field 'colour'"):
         whitted.Material(colour=(1, 0, 0))
+
+
+def test_masks_legend_ids_are_stable_across_add_and_remove():
+    scene = built_scene()
+    renderer = whitted.Renderer()
+    first = renderer.render(scene, aovs=("object_id",))
+    assert first.masks == {0: dict(name="ring", type="mesh", material="ring", material_id=0),
+                           1: dict(name="ball", type="sphere", material="ball", material_id=1),
+                           2: dict(name="crate", type="box", material="crate", material_id=2),
+                           3: dict(name="floor", type="plane", material="floor", material_id=3)}
+    ring = scene.objects[0]
+    scene.remove(ring)
+    scene.add_sphere((0, 0.3, 1.5), 0.3, name="new")  # a new id: 4, never ring's 0
+    second = renderer.render(scene, aovs=("object_id",))
+    assert {k: v["name"] for k, v in second.masks.items()} == {1: "ball", 2: "crate", 3: "floor", 4: "new"}
+    mask = second.aovs["object_id"]
+    assert set(np.unique(mask)) == {1, 2, 3, 4, 0xFFFFFFFF}
+    # Each object keeps its id and its pixels where nothing new covers them.
+    for oid in (1, 3):
+        was, now = first.aovs["object_id"] == oid, mask == oid
+        assert now.any() and np.array_equal(was & ~(mask == 4), now & ~(first.aovs["object_id"] == 0))
+    legend = second.record["masks"]["objects"]
+    assert [(o["id"], o["name"]) for o in legend] == [(1, "ball"), (2, "crate"), (3, "floor"), (4, "new")]
+    assert [m["object"] for m in second.record["masks"]["materials"]] == [1, 2, 3, 4]
