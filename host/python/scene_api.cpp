@@ -8,8 +8,8 @@
 #include "scene/mesh_objects.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
+#include "scene/shape_edit.h"
 #include "scene/xml_reader.h"
-#include "view/editor_panel.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>

@@ -179,3 +179,11 @@ def test_masks_legend_ids_are_stable_across_add_and_remove():
     legend = second.record["masks"]["objects"]
     assert [(o["id"], o["name"]) for o in legend] == [(1, "ball"), (2, "crate"), (3, "floor"), (4, "new")]
     assert [m["object"] for m in second.record["masks"]["materials"]] == [1, 2, 3, 4]
+
+
+def test_module_holds_no_window_code():
+    # The scene edits it shares with the window's editor panel live in
+    # host/scene/shape_edit.h, so no ImGui or GLFW code is linked in.
+    import pathlib
+    binary = pathlib.Path(whitted.__file__).read_bytes()
+    assert b"ImGui" not in binary and b"glfw" not in binary
