@@ -212,6 +212,18 @@ void materialFields(py::class_<View>& cls) {
 // until that changes nothing (the loader's xml::direction divides again),
 // a box's corner as <position> + <size> would give it again.
 
+// A name the saved file gives back as it is: the loader trims a <name>'s
+// text, and XML 1.0 has no control characters but tab and line breaks.
+std::string checkedName(const std::string& field, const py::object& name) {
+    if (name.is_none()) return {};
+    if (!py::isinstance<py::str>(name)) throw py::type_error(field + ": expected a string or None, got " + py::repr(name).cast<std::string>());
+    std::string n = name.cast<std::string>();
+    bool control = std::any_of(n.begin(), n.end(), [](char c) { return (unsigned char)c < 0x20 && c != '\t' && c != '\n' && c != '\r'; });
+    if (control || xml::trimmed(n) != n)
+        refuse(field, "text without control characters or surrounding whitespace", py::repr(name).cast<std::string>());
+    return n;
+}
+
 glm::dvec3 placed(const glm::dvec3& v) { return glm::dvec3(0) + v; }
 
 glm::dvec3 loaderDirection(const std::string& field, glm::dvec3 v) {
@@ -255,7 +267,7 @@ ObjectView addObject(const SceneRef& s, Shape shape, const py::object& material,
     Object o;
     o.material = materialFor(shape, material, call + ".material");
     o.shape = std::move(shape);
-    if (!name.is_none()) o.name = name.cast<std::string>();
+    o.name = checkedName(call + ".name", name);
     s->scene->objects.push_back(std::move(o));
     s->objectIds.push_back(s->nextObjectId++);
     ++s->versions.geometry;  // a new renderer scene: geometry, BVH, materials, lights
@@ -412,7 +424,7 @@ Light buildLight(const py::object& position, const py::object& color, const std:
         if (!(l.innerAngleDegrees < l.outerAngleDegrees))
             refuse("add_light.outer_angle", "greater than inner_angle (" + shown(l.innerAngleDegrees) + ")", shown(l.outerAngleDegrees));
     }
-    if (!name.is_none()) l.name = name.cast<std::string>();
+    l.name = checkedName("add_light.name", name);
     return l;
 }
 
@@ -525,7 +537,7 @@ void addSceneApi(py::module_& m) {
             "a copy of its material (a whitted.Material); assigning one copies it in")
         .def_property(
             "name", [](const ObjectView& v) { return v.o().name; },
-            [](const ObjectView& v, const std::string& n) { v.o().name = n; }, "optional name (<name>)")
+            [](const ObjectView& v, py::object n) { v.o().name = checkedName("Object.name", n); }, "optional name (<name>)")
         .def_property_readonly("type", [](const ObjectView& v) { return std::string(shapeName(v.o().shape)); },
                                "sphere, cylinder, plane, triangle, box, mesh or csg")
         .def_property_readonly("line", [](const ObjectView& v) { return v.o().sourceLine; },
@@ -594,7 +606,7 @@ void addSceneApi(py::module_& m) {
         .def_property_readonly("type", [](const LightView& v) { return std::string(lightTypeName(v.l().type)); })
         .def_property(
             "name", [](const LightView& v) { return v.l().name; },
-            [](const LightView& v, const std::string& n) { v.l().name = n; })
+            [](const LightView& v, py::object n) { v.l().name = checkedName("Light.name", n); })
         .def_property(
             "position", [](const LightView& v) { return toTuple(v.l().position); },
             [](const LightView& v, py::object x) {

@@ -142,6 +142,8 @@ BAD = [
      ValueError),
     ("add_light", dict(type="area", position=(0, 0, 0)), "add_light.type", ValueError),
     ("add_sphere", dict(center=(0, 0, 0), radius=1, material="red"), "add_sphere.material", TypeError),
+    ("add_sphere", dict(center=(0, 0, 0), radius=1, name=" ball"), "add_sphere.name", ValueError),
+    ("add_light", dict(position=(0, 0, 0), name="key\x01"), "add_light.name", ValueError),
 ]
 
 
