@@ -1,5 +1,7 @@
 #include "output/render_record.h"
 
+#include "scene/shape_edit.h"
+
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
@@ -19,12 +21,6 @@ std::string timestamp(const char* format) {
     char buf[64];
     std::strftime(buf, sizeof buf, format, &local);
     return buf;
-}
-
-const char* shapeName(const Shape& shape) {
-    static constexpr const char* kNames[] = {"sphere", "cylinder", "plane", "triangle", "box", "mesh", "csg"};
-    static_assert(std::variant_size_v<Shape> == std::size(kNames));
-    return kNames[shape.index()];
 }
 
 // The csg children with their own materials, in the order the packer gives

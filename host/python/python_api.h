@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 namespace whitted::python {
 
@@ -24,11 +25,16 @@ struct Versions {
 
 // A Scene of the module: the C++ scene, shared with the object, light and
 // camera views handed out, and its edit counters. `id` is unique per scene
-// (a copy gets a new one).
+// (a copy gets a new one). objectIds and lightIds run beside scene->objects
+// and scene->lights: the handle of each (scene_api.cpp's views hold it, so
+// a view survives the removal of others); an id is never reused within
+// the handle's life.
 struct SceneHandle {
     std::shared_ptr<Scene> scene;
     Versions versions;
     uint64_t id = 0;
+    std::vector<uint64_t> objectIds, lightIds;
+    uint64_t nextObjectId = 0, nextLightId = 0;
     explicit SceneHandle(Scene s);
 };
 using SceneRef = std::shared_ptr<SceneHandle>;

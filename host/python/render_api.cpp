@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <iterator>
 #include <mutex>
@@ -91,6 +92,7 @@ struct Result {
     std::vector<std::string> aovs;
     std::filesystem::path scenePath;
     std::shared_ptr<const Scene> masksScene;  // with object_id/material_id: the record's legend
+    std::vector<uint64_t> objectIds;          // with the masks: the handle's object ids (stableObjectIds)
     DeviceInfo device;
     nlohmann::json uploads;
     double loadSeconds = 0;
@@ -103,6 +105,10 @@ struct Result {
                                                                    .loadSeconds = loadSeconds,
                                                                    .masks = masksScene.get(), .exposure = 0,
                                                                    .camera = {}}));
+        if (masksScene) {  // the legend numbers objects as the mask does (stableObjectIds)
+            for (auto& o : j["masks"]["objects"]) o["id"] = objectIds[o["id"].get<size_t>()];
+            for (auto& mt : j["masks"]["materials"]) mt["object"] = objectIds[mt["object"].get<size_t>()];
+        }
         j["uploads"] = uploads;
         return j.dump(2) + "\n";
     }
@@ -134,6 +140,44 @@ struct Result {
     }
 };
 using ResultRef = std::shared_ptr<Result>;
+
+// ---- Stable object ids in the object_id mask (scene_api.cpp's handles) ----
+// The renderer numbers objects by their index; the result numbers them by
+// the scene handle's ids (python_api.h), which survive the removal of other
+// objects and are never reused within the scene's life. Until an object is
+// removed they are the indices, so the mask is the CLI's.
+void stableObjectIds(Result& r) {
+    const std::vector<uint64_t>& ids = r.objectIds;
+    bool indices = true;
+    for (size_t k = 0; k < ids.size(); ++k) indices = indices && ids[k] == k;
+    if (indices) return;
+    const ImageLayout& layout = r.pixels.layout;
+    size_t n = size_t(layout.region.width()) * size_t(layout.region.height());
+    float* objectChannel = r.pixels.layers.data() + size_t(layout.idLayer()) * n * 4;  // rgba: r is the object
+    for (size_t p = 0; p < n; ++p) {
+        uint32_t bits;
+        std::memcpy(&bits, objectChannel + 4 * p, sizeof bits);
+        if (bits >= ids.size()) continue;  // the background
+        uint32_t id = uint32_t(ids[bits]);
+        std::memcpy(objectChannel + 4 * p, &id, sizeof id);
+    }
+}
+
+// result.masks: object id -> its name, shape and material (the record's legend).
+py::dict masksDict(const Result& r) {
+    py::dict d;
+    if (!r.masksScene) return d;
+    nlohmann::ordered_json legend = maskLegend(*r.masksScene);
+    for (size_t k = 0; k < r.masksScene->objects.size(); ++k) {
+        py::dict entry;
+        entry["name"] = legend["objects"][k]["name"].get<std::string>();
+        entry["type"] = legend["objects"][k]["shape"].get<std::string>();
+        entry["material"] = legend["materials"][k]["name"].get<std::string>();
+        entry["material_id"] = k;
+        d[py::int_(r.objectIds[k])] = entry;
+    }
+    return d;
+}
 
 // What the uploaded scene was: which scene, at which edits, with which settings.
 struct Uploaded {
@@ -218,7 +262,10 @@ public:
         // The renderer reads its own copy: the script may edit the scene
         // (or render it elsewhere) while this render runs.
         Scene copy = scene;
-        if (s.ids) result->masksScene = std::make_shared<const Scene>(scene);
+        if (s.ids) {
+            result->masksScene = std::make_shared<const Scene>(scene);
+            result->objectIds = handle->objectIds;
+        }
         Versions versions = handle->versions;
         uint64_t id = handle->id;
         bool hasProgress = !progress.is_none();
@@ -241,6 +288,7 @@ public:
                                          std::to_string(ctx_->validationMessageCount() - messagesBefore) +
                                          " message(s) during this render");
         }
+        if (s.ids) stableObjectIds(*result);
         return result;
     }
 
@@ -337,6 +385,9 @@ void addRenderApi(py::module_& m) {
                 return r.record;
             },
             "the render.json content, with 'uploads': what this render sent to the device")
+        .def_property_readonly("masks", &masksDict,
+                               "with the object_id mask: object id -> {name, type, material, material_id}; the ids "
+                               "are the scene's, stable across renders and add/remove")
         .def_property_readonly("width", [](const Result& r) { return r.pixels.layout.region.width(); })
         .def_property_readonly("height", [](const Result& r) { return r.pixels.layout.region.height(); })
         .def(

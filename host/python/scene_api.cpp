@@ -5,15 +5,19 @@
 // the field and the range before anything reaches a device.
 #include "app/quick_look.h"
 #include "python/python_api.h"
+#include "scene/mesh_objects.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
+#include "scene/shape_edit.h"
 #include "scene/xml_reader.h"
-#include "view/editor_panel.h"
 
+#include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <atomic>
+#include <optional>
 #include <cmath>
 #include <string>
 
@@ -22,15 +26,17 @@ namespace whitted::python {
 SceneHandle::SceneHandle(Scene s) : scene(std::make_shared<Scene>(std::move(s))) {
     static std::atomic<uint64_t> next{1};
     id = next++;
+    for (size_t i = 0; i < scene->objects.size(); ++i) objectIds.push_back(nextObjectId++);
+    for (size_t i = 0; i < scene->lights.size(); ++i) lightIds.push_back(nextLightId++);
 }
 
 namespace {
 
 using xml::Range;
 constexpr Range kColourRange = xml::kUnitInterval;
-constexpr Range kIor{0.1, 10, false, false};          // the loader's refraction_coef
-constexpr Range kShininess{0, 1e5, true, false};      // the loader's shininess
-constexpr Range kFov{0, 180, true, true};             // the loader's fov
+constexpr Range kIor = kIorRange;
+constexpr Range kShininess = kShininessRange;
+constexpr Range kFov = kFovRange;
 constexpr Range kNormalStrength{0, 4, false, false};  // the editor panel's slider
 constexpr Range kImageSide{1, 16384, false, false};   // gpu::kMaxImageSide
 
@@ -90,23 +96,41 @@ struct CameraView {
     Camera& c() const { return s->scene->camera; }
     void edited() const { ++s->versions.camera; }
 };
+// Object and light views hold the handle's id of what they show (python_api.h):
+// one removed raises KeyError, the others keep working.
+size_t indexOf(const std::vector<uint64_t>& ids, uint64_t id, const char* what) {
+    auto it = std::find(ids.begin(), ids.end(), id);
+    if (it == ids.end()) throw py::key_error(std::string("the ") + what + " was removed from its scene");
+    return size_t(it - ids.begin());
+}
 struct ObjectView {
     SceneRef s;
-    size_t index;
-    Object& o() const {
-        if (index >= s->scene->objects.size()) throw py::index_error("the object is no longer in its scene");
-        return s->scene->objects[index];
-    }
+    uint64_t id;
+    size_t index() const { return indexOf(s->objectIds, id, "object"); }
+    Object& o() const { return s->scene->objects[index()]; }
     std::string field(const char* name) const { return std::string("Object.") + name; }
 };
 struct LightView {
     SceneRef s;
-    size_t index;
-    Light& l() const {
-        if (index >= s->scene->lights.size()) throw py::index_error("the light is no longer in its scene");
-        return s->scene->lights[index];
-    }
+    uint64_t id;
+    size_t index() const { return indexOf(s->lightIds, id, "light"); }
+    Light& l() const { return s->scene->lights[index()]; }
 };
+
+// whitted.Material: a material's values, not tied to a scene; an object
+// takes a copy (Object.material = m).
+struct MaterialValue {
+    Material m;
+};
+
+// The two holders of material fields: an object (an edit bumps its scene's
+// materials counter) and a free Material.
+Material& materialOf(const ObjectView& v) { return v.o().material; }
+Material& materialOf(MaterialValue& v) { return v.m; }
+void materialEdited(const ObjectView& v) { ++v.s->versions.materials; }
+void materialEdited(MaterialValue&) {}
+std::string fieldOf(const ObjectView&, const char* name) { return std::string("Object.") + name; }
+std::string fieldOf(MaterialValue&, const char* name) { return std::string("Material.") + name; }
 
 const char* lightTypeName(Light::Type t) {
     switch (t) {
@@ -119,25 +143,289 @@ const char* lightTypeName(Light::Type t) {
 
 // A material field of an object: double or colour, with its range; an edit
 // bumps the materials counter only.
-template <typename T>
-void materialField(py::class_<ObjectView>& cls, const char* name, T Material::*member, const Range& range,
+template <typename View, typename T>
+void materialField(py::class_<View>& cls, const char* name, T Material::*member, const Range& range,
                    const char* doc) {
     if constexpr (std::is_same_v<T, double>)
         cls.def_property(
-            name, [member](const ObjectView& v) { return v.o().material.*member; },
-            [member, name, range](const ObjectView& v, double x) {
-                v.o().material.*member = checked(v.field(name), x, range);
-                ++v.s->versions.materials;
+            name, [member](View& v) { return materialOf(v).*member; },
+            [member, name, range](View& v, double x) {
+                materialOf(v).*member = checked(fieldOf(v, name), x, range);
+                materialEdited(v);
             },
             doc);
     else
         cls.def_property(
-            name, [member](const ObjectView& v) { return toTuple(v.o().material.*member); },
-            [member, name, range](const ObjectView& v, py::object x) {
-                v.o().material.*member = checked(v.field(name), toVec(x, v.field(name)), range);
-                ++v.s->versions.materials;
+            name, [member](View& v) { return toTuple(materialOf(v).*member); },
+            [member, name, range](View& v, py::object x) {
+                materialOf(v).*member = checked(fieldOf(v, name), toVec(x, fieldOf(v, name)), range);
+                materialEdited(v);
             },
             doc);
+}
+
+// The material fields of the scene format (<properties> and the object's
+// colours), on an object and on whitted.Material alike.
+template <typename View>
+void materialFields(py::class_<View>& cls) {
+    materialField(cls, "diffuse_color", &Material::diffuseColor, kColourRange, "Cd");
+    materialField(cls, "specular_color", &Material::specularColor, kColourRange, "Cs");
+    materialField(cls, "checker_color", &Material::checkerColor, kColourRange, "the checker's second colour");
+    materialField(cls, "absorption", &Material::absorption, xml::kNonNegative, "Beer-Lambert sigma per unit length");
+    materialField(cls, "transmission_color", &Material::transmissionColor, kColourRange, "tints refracted light");
+    materialField(cls, "emission", &Material::emission, xml::kNonNegative, "added where a ray hits");
+    materialField(cls, "ambient", &Material::ambient, kColourRange, "ka");
+    materialField(cls, "diffuse", &Material::diffuse, kColourRange, "kd");
+    materialField(cls, "specular", &Material::specular, kColourRange, "ks");
+    materialField(cls, "shininess", &Material::shininess, kShininess, "Phong exponent");
+    materialField(cls, "reflection", &Material::reflection, kColourRange, "kr");
+    materialField(cls, "transmission", &Material::transmission, kColourRange, "kt");
+    materialField(cls, "ior", &Material::ior, kIor, "index of refraction");
+    materialField(cls, "texture_scale", &Material::textureScale, xml::kPositive, "a plane's texture repeat length");
+    materialField(cls, "normal_strength", &Material::normalStrength, kNormalStrength, "normal map strength");
+    cls.def_property(
+        "fresnel", [](View& v) { return materialOf(v).fresnel; },
+        [](View& v, bool f) {
+            materialOf(v).fresnel = f;
+            materialEdited(v);
+        },
+        "reflection as Schlick's Fresnel term with kr as F0");
+    cls.def_property(
+        "ambient_color",
+        [](View& v) -> py::object {
+            const Material& m = materialOf(v);
+            return m.ambientColor ? py::object(toTuple(*m.ambientColor)) : py::object(py::none());
+        },
+        [](View& v, py::object x) {
+            if (x.is_none()) materialOf(v).ambientColor.reset();
+            else materialOf(v).ambientColor = checked(fieldOf(v, "ambient_color"), toVec(x, fieldOf(v, "ambient_color")), kColourRange);
+            materialEdited(v);
+        },
+        "the ambient term's colour (<ambient_color>); None: Cd");
+}
+
+// ---- Building: the shapes of the scene format, checked as the loader checks them ----
+//
+// What is stored is what the scene writer writes and the loader reads back
+// bit for bit (Scene.save): positions as the loader places them (origin +
+// <position>, which turns -0 into 0), directions divided by their length
+// until that changes nothing (the loader's xml::direction divides again),
+// a box's corner as <position> + <size> would give it again.
+
+// A name the saved file gives back as it is: the loader trims a <name>'s
+// text, and XML 1.0 has no control characters but tab and line breaks.
+std::string checkedName(const std::string& field, const py::object& name) {
+    if (name.is_none()) return {};
+    if (!py::isinstance<py::str>(name)) throw py::type_error(field + ": expected a string or None, got " + py::repr(name).cast<std::string>());
+    std::string n = name.cast<std::string>();
+    bool control = std::any_of(n.begin(), n.end(), [](char c) { return (unsigned char)c < 0x20 && c != '\t' && c != '\n' && c != '\r'; });
+    if (control || xml::trimmed(n) != n)
+        refuse(field, "text without control characters or surrounding whitespace", py::repr(name).cast<std::string>());
+    return n;
+}
+
+glm::dvec3 placed(const glm::dvec3& v) { return glm::dvec3(0) + v; }
+
+glm::dvec3 loaderDirection(const std::string& field, glm::dvec3 v) {
+    checked(field, v, xml::kAnyValue);
+    double length = glm::length(v);
+    if (!(length > xml::kMinLength)) refuse(field, "a non-zero direction", py::repr(toTuple(v)).cast<std::string>());
+    v /= length;
+    for (int i = 0; i < 8; ++i) {
+        glm::dvec3 again = v / glm::length(v);
+        if (again == v) break;
+        v = again;
+    }
+    return v;
+}
+
+// Where a checker's cells start so that the saved file anchors them the
+// same: the <position> the writer writes (none for triangles and inline
+// meshes, whose vertices it writes in world space).
+glm::dvec3 builtCheckerAnchor(const Shape& shape) {
+    const Mesh* mesh = std::get_if<Mesh>(&shape);
+    if (std::holds_alternative<Triangle>(shape) || (mesh && !mesh->source)) return glm::dvec3(0);
+    return checkerAnchor(shape);
+}
+
+// A material given to an object: a copy, its checker anchored on the
+// object; textures only where the object has texture coordinates (the loader's rule).
+Material materialFor(const Shape& shape, const py::object& material, const std::string& field) {
+    if (material.is_none()) return Material{};
+    if (!py::isinstance<MaterialValue>(material))
+        throw py::type_error(field + ": expected a whitted.Material or None, got " + py::repr(material).cast<std::string>());
+    Material m = material.cast<const MaterialValue&>().m;
+    if (m.checkerSize > 0) m.checkerOrigin = builtCheckerAnchor(shape);
+    const Mesh* mesh = std::get_if<Mesh>(&shape);
+    if (m.textured() && (std::holds_alternative<Triangle>(shape) || (mesh && mesh->uvs.empty())))
+        refuse(field, "a material without textures for a " + std::string(shapeName(shape)) + " without uvs", "a textured one");
+    return m;
+}
+
+ObjectView addObject(const SceneRef& s, Shape shape, const py::object& material, const py::object& name,
+                     const std::string& call) {
+    Object o;
+    o.material = materialFor(shape, material, call + ".material");
+    o.shape = std::move(shape);
+    o.name = checkedName(call + ".name", name);
+    s->scene->objects.push_back(std::move(o));
+    s->objectIds.push_back(s->nextObjectId++);
+    ++s->versions.geometry;  // a new renderer scene: geometry, BVH, materials, lights
+    return ObjectView{s, s->objectIds.back()};
+}
+
+std::string shapeText(const py::array& a) {
+    std::string t = "shape (";
+    for (py::ssize_t i = 0; i < a.ndim(); ++i) t += (i ? ", " : "") + std::to_string(a.shape(i));
+    return t + (a.ndim() == 1 ? ",)" : ")");
+}
+
+using Rows = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// An (N, columns) array of floats, or ValueError naming the field.
+Rows floatRows(const py::object& x, py::ssize_t columns, const std::string& field) {
+    std::string expected = "an (N, " + std::to_string(columns) + ") array of numbers";
+    py::array any = py::array::ensure(x);
+    if (!any) refuse(field, expected, py::repr(x).cast<std::string>());
+    char kind = any.dtype().kind();
+    if (kind != 'f' && kind != 'i' && kind != 'u') refuse(field, expected, "dtype " + py::str(any.dtype()).cast<std::string>());
+    Rows a = Rows::ensure(any);
+    if (a.ndim() != 2 || a.shape(1) != columns || a.shape(0) == 0) refuse(field, expected, shapeText(a));
+    return a;
+}
+
+// A 4x4 affine transform (the last row 0 0 0 1), finite, within ±1e6, its
+// 3x3 part invertible: the XML format's <matrix>.
+glm::dmat4 transformMatrix(const py::object& x, const std::string& field) {
+    auto a = floatRows(x, 4, field);
+    if (a.shape(0) != 4) refuse(field, "a 4x4 matrix", shapeText(a));
+    glm::dmat4 m(1.0);
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) {
+            double v = a.at(r, c);
+            if (!(std::abs(v) <= xml::kMaxMagnitude)) refuse(field, "numbers within ±1e6", "M[" + std::to_string(r) + ", " + std::to_string(c) + "] = " + shown(v));
+            m[c][r] = v;
+        }
+    if (m[0][3] != 0 || m[1][3] != 0 || m[2][3] != 0 || m[3][3] != 1)
+        refuse(field, "an affine matrix (last row 0 0 0 1)", "last row (" + shown(m[0][3]) + ", " + shown(m[1][3]) + ", " + shown(m[2][3]) + ", " + shown(m[3][3]) + ")");
+    double det = glm::determinant(glm::dmat3(m));
+    if (!(std::abs(det) > 0) || !std::isfinite(det)) refuse(field, "invertible (its 3x3 part)", "determinant " + shown(det));
+    return m;
+}
+
+glm::dvec3 row3(const Rows& a, py::ssize_t i) { return {a.at(i, 0), a.at(i, 1), a.at(i, 2)}; }
+
+Mesh buildMesh(const py::object& vertices, const py::object& faces, const py::object& normals, const py::object& uvs,
+               const py::object& transform) {
+    auto V = floatRows(vertices, 3, "add_mesh.vertices");
+    const py::ssize_t n = V.shape(0);
+    py::array anyFaces = py::array::ensure(faces);
+    if (!anyFaces || (anyFaces.dtype().kind() != 'i' && anyFaces.dtype().kind() != 'u'))
+        refuse("add_mesh.faces", "an (M, 3) array of integers", anyFaces ? "dtype " + py::str(anyFaces.dtype()).cast<std::string>() : py::repr(faces).cast<std::string>());
+    auto F = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(anyFaces);
+    if (F.ndim() != 2 || F.shape(1) != 3 || F.shape(0) == 0) refuse("add_mesh.faces", "an (M, 3) array of integers, M >= 1", shapeText(F));
+    std::optional<Rows> N, UV;
+    if (!normals.is_none()) {
+        N = floatRows(normals, 3, "add_mesh.normals");
+        if (N->shape(0) != n) refuse("add_mesh.normals", "one per vertex, (" + std::to_string(n) + ", 3)", shapeText(*N));
+    }
+    if (!uvs.is_none()) {
+        UV = floatRows(uvs, 2, "add_mesh.uvs");
+        if (UV->shape(0) != n) refuse("add_mesh.uvs", "one per vertex, (" + std::to_string(n) + ", 2)", shapeText(*UV));
+    }
+    std::optional<glm::dmat4> M;
+    if (!transform.is_none()) M = transformMatrix(transform, "add_mesh.transform");
+    const glm::dmat3 normalLinear = M ? glm::transpose(glm::inverse(glm::dmat3(*M))) : glm::dmat3(1.0);
+    const bool flip = M && glm::determinant(glm::dmat3(*M)) < 0;
+
+    std::vector<glm::dvec3> world(static_cast<size_t>(n)), normal(N ? static_cast<size_t>(n) : 0);
+    std::vector<glm::dvec2> uv(UV ? static_cast<size_t>(n) : 0);
+    for (py::ssize_t i = 0; i < n; ++i) {
+        const std::string at = "[" + std::to_string(i) + "]";
+        glm::dvec3 v = checked("add_mesh.vertices" + at, row3(V, i), xml::kAnyValue);
+        if (M) {
+            v = glm::dvec3(*M * glm::dvec4(v, 1.0));
+            checked("add_mesh.vertices" + at + " transformed", v, xml::kAnyValue);
+        }
+        world[size_t(i)] = v;
+        if (N) {
+            // As the loader: a unit normal as given, any other divided by its length.
+            glm::dvec3 nv = checked("add_mesh.normals" + at, row3(*N, i), xml::kAnyValue);
+            if (std::abs(glm::length(nv) - 1.0) > 1e-9) nv = loaderDirection("add_mesh.normals" + at, nv);
+            if (M) nv = glm::normalize(normalLinear * nv);
+            normal[size_t(i)] = nv;
+        }
+        if (UV) {
+            for (int k = 0; k < 2; ++k)
+                if (!(std::abs(UV->at(i, k)) <= xml::kMaxMagnitude))
+                    refuse("add_mesh.uvs" + at, "2 numbers each " + xml::kAnyValue.describe(), "(" + shown(UV->at(i, 0)) + ", " + shown(UV->at(i, 1)) + ")");
+            uv[size_t(i)] = {UV->at(i, 0), UV->at(i, 1)};
+        }
+    }
+    Mesh mesh;
+    size_t skipped = 0;
+    for (py::ssize_t f = 0; f < F.shape(0); ++f) {
+        std::array<size_t, 3> idx{};
+        for (int k = 0; k < 3; ++k) {
+            int64_t j = F.at(f, k);
+            if (j < 0 || j >= n)
+                refuse("add_mesh.faces[" + std::to_string(f) + "]", "vertex indices in [0, " + std::to_string(n - 1) + "]", std::to_string(j));
+            idx[size_t(k)] = size_t(j);
+        }
+        if (flip) std::swap(idx[1], idx[2]);
+        Triangle t{world[idx[0]], world[idx[1]], world[idx[2]]};
+        if (degenerate(t)) {
+            ++skipped;
+            continue;
+        }
+        mesh.triangles.push_back(t);
+        if (N) mesh.normals.push_back({normal[idx[0]], normal[idx[1]], normal[idx[2]]});
+        if (UV) mesh.uvs.push_back({uv[idx[0]], uv[idx[1]], uv[idx[2]]});
+    }
+    if (mesh.triangles.empty()) refuse("add_mesh.faces", "at least one face that is not degenerate", "none");
+    if (skipped > 0) {
+        std::string text = "add_mesh: " + std::to_string(skipped) + " degenerate face(s) skipped";
+        if (PyErr_WarnEx(PyExc_UserWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+    }
+    return mesh;
+}
+
+Light buildLight(const py::object& position, const py::object& color, const std::string& type, double intensity,
+                 const std::string& falloff, const py::object& direction, const py::object& inner,
+                 const py::object& outer, const py::object& name) {
+    Light l;
+    if (type == "point") l.type = Light::Type::Point;
+    else if (type == "spot") l.type = Light::Type::Spot;
+    else if (type == "directional") l.type = Light::Type::Directional;
+    else refuse("add_light.type", "'point', 'spot' or 'directional'", "'" + type + "'");
+    if (l.type == Light::Type::Directional) {
+        if (!position.is_none()) refuse("add_light.position", "None for a directional light (it has no position)", py::repr(position).cast<std::string>());
+    } else {
+        if (position.is_none()) refuse("add_light.position", "3 numbers (required for a " + type + " light)", "None");
+        l.position = checked("add_light.position", toVec(position, "add_light.position"), xml::kAnyValue);
+    }
+    l.color = checked("add_light.color", toVec(color, "add_light.color"), xml::kNonNegative);
+    l.intensity = checked("add_light.intensity", intensity, xml::kNonNegative);
+    if (falloff == "inverse_square") l.falloff = Light::Falloff::InverseSquare;
+    else if (falloff != "none") refuse("add_light.falloff", "'none' or 'inverse_square'", "'" + falloff + "'");
+    if (l.type == Light::Type::Directional && l.falloff != Light::Falloff::None)
+        refuse("add_light.falloff", "'none' for a directional light (its light does not weaken with distance)", "'" + falloff + "'");
+    if (l.type == Light::Type::Point) {
+        if (!direction.is_none()) refuse("add_light.direction", "None for a point light (only spot and directional lights have one)", py::repr(direction).cast<std::string>());
+    } else {
+        if (direction.is_none()) refuse("add_light.direction", "3 numbers (required for a " + type + " light)", "None");
+        l.direction = loaderDirection("add_light.direction", toVec(direction, "add_light.direction"));
+    }
+    if (l.type != Light::Type::Spot) {
+        if (!inner.is_none() || !outer.is_none()) refuse(inner.is_none() ? "add_light.outer_angle" : "add_light.inner_angle", "None for a " + type + " light (only a spot light has a cone)", "a number");
+    } else {
+        if (!inner.is_none()) l.innerAngleDegrees = checked("add_light.inner_angle", inner.cast<double>(), kInnerAngleRange);
+        if (!outer.is_none()) l.outerAngleDegrees = checked("add_light.outer_angle", outer.cast<double>(), kOuterAngleRange);
+        if (!(l.innerAngleDegrees < l.outerAngleDegrees))
+            refuse("add_light.outer_angle", "greater than inner_angle (" + shown(l.innerAngleDegrees) + ")", shown(l.outerAngleDegrees));
+    }
+    l.name = checkedName("add_light.name", name);
+    return l;
 }
 
 // whitted.SceneError; a strong reference kept for the process's life (never
@@ -240,8 +528,16 @@ void addSceneApi(py::module_& m) {
     py::class_<ObjectView> object(m, "Object", "An object of a scene (a view: edits change the scene)");
     object
         .def_property(
+            "material", [](const ObjectView& v) { return MaterialValue{v.o().material}; },
+            [](const ObjectView& v, py::object m) {
+                Object& o = v.o();
+                o.material = materialFor(o.shape, m.is_none() ? py::cast(MaterialValue{}) : m, "Object.material");
+                ++v.s->versions.materials;
+            },
+            "a copy of its material (a whitted.Material); assigning one copies it in")
+        .def_property(
             "name", [](const ObjectView& v) { return v.o().name; },
-            [](const ObjectView& v, const std::string& n) { v.o().name = n; }, "optional name (<name>)")
+            [](const ObjectView& v, py::object n) { v.o().name = checkedName("Object.name", n); }, "optional name (<name>)")
         .def_property_readonly("type", [](const ObjectView& v) { return std::string(shapeName(v.o().shape)); },
                                "sphere, cylinder, plane, triangle, box, mesh or csg")
         .def_property_readonly("line", [](const ObjectView& v) { return v.o().sourceLine; },
@@ -292,13 +588,6 @@ void addSceneApi(py::module_& m) {
             },
             "a csg object's operation (None for other shapes)")
         .def_property(
-            "fresnel", [](const ObjectView& v) { return v.o().material.fresnel; },
-            [](const ObjectView& v, bool f) {
-                v.o().material.fresnel = f;
-                ++v.s->versions.materials;
-            },
-            "reflection as Schlick's Fresnel term with kr as F0")
-        .def_property(
             "checker_size", [](const ObjectView& v) { return v.o().material.checkerSize; },
             [](const ObjectView& v, double x) {
                 Object& o = v.o();
@@ -308,30 +597,16 @@ void addSceneApi(py::module_& m) {
                 ++v.s->versions.materials;
             },
             "solid checker cell size (> 0), 0: no checker");
-    materialField(object, "diffuse_color", &Material::diffuseColor, kColourRange, "Cd");
-    materialField(object, "specular_color", &Material::specularColor, kColourRange, "Cs");
-    materialField(object, "checker_color", &Material::checkerColor, kColourRange, "the checker's second colour");
-    materialField(object, "absorption", &Material::absorption, xml::kNonNegative, "Beer-Lambert sigma per unit length");
-    materialField(object, "transmission_color", &Material::transmissionColor, kColourRange, "tints refracted light");
-    materialField(object, "emission", &Material::emission, xml::kNonNegative, "added where a ray hits");
-    materialField(object, "ambient", &Material::ambient, kColourRange, "ka");
-    materialField(object, "diffuse", &Material::diffuse, kColourRange, "kd");
-    materialField(object, "specular", &Material::specular, kColourRange, "ks");
-    materialField(object, "shininess", &Material::shininess, kShininess, "Phong exponent");
-    materialField(object, "reflection", &Material::reflection, kColourRange, "kr");
-    materialField(object, "transmission", &Material::transmission, kColourRange, "kt");
-    materialField(object, "ior", &Material::ior, kIor, "index of refraction");
-    materialField(object, "texture_scale", &Material::textureScale, xml::kPositive, "a plane's texture repeat length");
-    materialField(object, "normal_strength", &Material::normalStrength, kNormalStrength, "normal map strength");
+    materialFields(object);
     object.def("__repr__", [](const ObjectView& v) {
-        return "Object(" + std::to_string(v.index) + ", type='" + shapeName(v.o().shape) + "', name='" + v.o().name + "')";
+        return "Object(" + std::to_string(v.index()) + ", type='" + shapeName(v.o().shape) + "', name='" + v.o().name + "')";
     });
 
     py::class_<LightView>(m, "Light", "A light of a scene (a view: edits change the scene)")
         .def_property_readonly("type", [](const LightView& v) { return std::string(lightTypeName(v.l().type)); })
         .def_property(
             "name", [](const LightView& v) { return v.l().name; },
-            [](const LightView& v, const std::string& n) { v.l().name = n; })
+            [](const LightView& v, py::object n) { v.l().name = checkedName("Light.name", n); })
         .def_property(
             "position", [](const LightView& v) { return toTuple(v.l().position); },
             [](const LightView& v, py::object x) {
@@ -357,21 +632,168 @@ void addSceneApi(py::module_& m) {
                 ++v.s->versions.lights;
             })
         .def("__repr__", [](const LightView& v) {
-            return "Light(" + std::to_string(v.index) + ", type='" + lightTypeName(v.l().type) + "')";
+            return "Light(" + std::to_string(v.index()) + ", type='" + lightTypeName(v.l().type) + "')";
         });
 
-    py::class_<SceneHandle, SceneRef>(m, "Scene", "A scene: load() or loads() it, edit it, render it")
+    py::class_<MaterialValue> material(m, "Material",
+                                       "A material's values (the scene format's material fields); "
+                                       "Material(diffuse_color=(1, 0, 0), specular=0.5, ...)");
+    material.def(py::init([](py::kwargs fields) {
+        py::object made = py::cast(MaterialValue{});
+        for (auto [key, value] : fields) {
+            std::string k = py::str(key);
+            if (k.starts_with("_") || k == "textured" || !py::hasattr(made, key))
+                throw py::type_error("Material: unknown field '" + k + "'");
+            made.attr(key) = value;
+        }
+        return made.cast<MaterialValue>();
+    }));
+    materialFields(material);
+    material
+        .def_property(
+            "checker_size", [](const MaterialValue& v) { return v.m.checkerSize; },
+            [](MaterialValue& v, double x) {
+                if (x != 0) checked("Material.checker_size", x, xml::kPositive);
+                v.m.checkerSize = x;
+            },
+            "solid checker cell size (> 0), 0: no checker (anchored at the object it is given to)")
+        .def_property_readonly("textured", [](const MaterialValue& v) { return v.m.textured(); },
+                               "whether it has textures (only a loaded object's material has)")
+        .def("__repr__", [](const MaterialValue& v) {
+            return "Material(diffuse_color=" + py::repr(toTuple(v.m.diffuseColor)).cast<std::string>() +
+                   ", diffuse=" + shown(v.m.diffuse) + ", specular=" + shown(v.m.specular) +
+                   ", reflection=" + shown(v.m.reflection) + ", transmission=" + shown(v.m.transmission) + ")";
+        });
+
+    py::class_<SceneHandle, SceneRef>(m, "Scene", "A scene: load() or loads() it, or build it (Scene()), edit it, render it")
+        .def(py::init([] {
+                 Scene scene;
+                 scene.ambientLight = glm::dvec3(0);
+                 return std::make_shared<SceneHandle>(std::move(scene));
+             }),
+             "an empty scene: the default camera, no lights, no objects, ambient light 0")
+        .def(
+            "add_sphere",
+            [](const SceneRef& s, py::object center, double radius, py::object material, py::object name) {
+                Sphere sphere{placed(checked("add_sphere.center", toVec(center, "add_sphere.center"), xml::kAnyValue)),
+                              checked("add_sphere.radius", radius, xml::kPositive)};
+                return addObject(s, sphere, material, name, "add_sphere");
+            },
+            py::arg("center"), py::arg("radius"), py::arg("material") = py::none(), py::arg("name") = py::none())
+        .def(
+            "add_box",
+            [](const SceneRef& s, py::object min, py::object size, py::object material, py::object name) {
+                glm::dvec3 lo = placed(checked("add_box.min", toVec(min, "add_box.min"), xml::kAnyValue));
+                glm::dvec3 sz = checked("add_box.size", toVec(size, "add_box.size"), xml::kPositive);
+                glm::dvec3 hi = lo + sz;
+                for (int i = 0; i < 3; ++i)
+                    if (!(lo[i] < hi[i]))
+                        refuse("add_box.size", std::string("large enough to register beside min in ") + "xyz"[i], shown(sz[i]));
+                for (int i = 0; i < 8; ++i) {  // what <position> + <size> gives back
+                    glm::dvec3 again = lo + (hi - lo);
+                    if (again == hi) break;
+                    hi = again;
+                }
+                return addObject(s, Box{lo, hi}, material, name, "add_box");
+            },
+            py::arg("min"), py::arg("size"), py::arg("material") = py::none(), py::arg("name") = py::none())
+        .def(
+            "add_plane",
+            [](const SceneRef& s, py::object point, py::object normal, py::object material, py::object name) {
+                Plane plane{placed(checked("add_plane.point", toVec(point, "add_plane.point"), xml::kAnyValue)),
+                            loaderDirection("add_plane.normal", toVec(normal, "add_plane.normal"))};
+                return addObject(s, plane, material, name, "add_plane");
+            },
+            py::arg("point"), py::arg("normal"), py::arg("material") = py::none(), py::arg("name") = py::none())
+        .def(
+            "add_cylinder",
+            [](const SceneRef& s, py::object base, py::object axis, double radius, double height, py::object material,
+               py::object name) {
+                Cylinder c{placed(checked("add_cylinder.base", toVec(base, "add_cylinder.base"), xml::kAnyValue)),
+                           loaderDirection("add_cylinder.axis", toVec(axis, "add_cylinder.axis")),
+                           checked("add_cylinder.radius", radius, xml::kPositive),
+                           checked("add_cylinder.height", height, xml::kPositive)};
+                return addObject(s, c, material, name, "add_cylinder");
+            },
+            py::arg("base"), py::arg("axis"), py::arg("radius"), py::arg("height"), py::arg("material") = py::none(),
+            py::arg("name") = py::none())
+        .def(
+            "add_triangle",
+            [](const SceneRef& s, py::object a, py::object b, py::object c, py::object material, py::object name) {
+                Triangle t{placed(checked("add_triangle.a", toVec(a, "add_triangle.a"), xml::kAnyValue)),
+                           placed(checked("add_triangle.b", toVec(b, "add_triangle.b"), xml::kAnyValue)),
+                           placed(checked("add_triangle.c", toVec(c, "add_triangle.c"), xml::kAnyValue))};
+                if (degenerate(t)) refuse("add_triangle.c", "a vertex off the line through a and b", "a degenerate triangle");
+                return addObject(s, t, material, name, "add_triangle");
+            },
+            py::arg("a"), py::arg("b"), py::arg("c"), py::arg("material") = py::none(), py::arg("name") = py::none())
+        .def(
+            "add_mesh",
+            [](const SceneRef& s, py::object vertices, py::object faces, py::object normals, py::object uvs,
+               py::object material, py::object name, py::object transform) {
+                return addObject(s, buildMesh(vertices, faces, normals, uvs, transform), material, name, "add_mesh");
+            },
+            py::arg("vertices"), py::arg("faces"), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
+            py::arg("material") = py::none(), py::arg("name") = py::none(), py::arg("transform") = py::none(),
+            "a triangle mesh from numpy arrays: vertices (N, 3), faces (M, 3) integers, normals (N, 3), uvs (N, 2), "
+            "transform 4x4 (applied to vertices and normals); degenerate faces are skipped with a warning")
+        .def(
+            "add_light",
+            [](const SceneRef& s, py::object position, py::object color, const std::string& type, double intensity,
+               const std::string& falloff, py::object direction, py::object inner, py::object outer, py::object name) {
+                s->scene->lights.push_back(
+                    buildLight(position, color, type, intensity, falloff, direction, inner, outer, name));
+                s->lightIds.push_back(s->nextLightId++);
+                ++s->versions.geometry;  // the light count changed: the renderer takes the scene anew
+                return LightView{s, s->lightIds.back()};
+            },
+            py::arg("position") = py::none(), py::arg("color") = py::make_tuple(1.0, 1.0, 1.0),
+            py::arg("type") = "point", py::arg("intensity") = 1.0, py::arg("falloff") = "none",
+            py::arg("direction") = py::none(), py::arg("inner_angle") = py::none(),
+            py::arg("outer_angle") = py::none(), py::arg("name") = py::none(),
+            "a point, spot or directional light with the fields of <light>")
+        .def(
+            "remove",
+            [](const SceneRef& s, py::object handle) {
+                if (py::isinstance<ObjectView>(handle)) {
+                    const ObjectView& v = handle.cast<const ObjectView&>();
+                    if (v.s != s) throw py::key_error("the object is not in this scene");
+                    size_t i = v.index();
+                    s->scene->objects.erase(s->scene->objects.begin() + std::ptrdiff_t(i));
+                    s->objectIds.erase(s->objectIds.begin() + std::ptrdiff_t(i));
+                } else if (py::isinstance<LightView>(handle)) {
+                    const LightView& v = handle.cast<const LightView&>();
+                    if (v.s != s) throw py::key_error("the light is not in this scene");
+                    size_t i = v.index();
+                    s->scene->lights.erase(s->scene->lights.begin() + std::ptrdiff_t(i));
+                    s->lightIds.erase(s->lightIds.begin() + std::ptrdiff_t(i));
+                } else {
+                    throw py::type_error("Scene.remove: expected an Object or a Light of the scene, got " +
+                                         py::repr(handle).cast<std::string>());
+                }
+                ++s->versions.geometry;
+            },
+            py::arg("handle"), "removes an object or light; its handle then raises KeyError")
+        .def(py::pickle(
+            [](const SceneRef& s) { return py::make_tuple(sceneXml(*s->scene), s->scene->sourcePath); },
+            [](const py::tuple& state) {
+                if (py::len(state) != 2) throw py::value_error("Scene.__setstate__: expected (xml, path)");
+                auto path = state[1].cast<std::filesystem::path>();
+                Scene scene = loadSceneFromString(state[0].cast<std::string>(), path.empty() ? "<pickled scene>" : path);
+                scene.sourcePath = path;
+                return std::make_shared<SceneHandle>(std::move(scene));
+            }))
         .def_property_readonly("camera", [](const SceneRef& s) { return CameraView{s}; })
         .def_property_readonly("objects",
                                [](const SceneRef& s) {
                                    py::list l;
-                                   for (size_t i = 0; i < s->scene->objects.size(); ++i) l.append(ObjectView{s, i});
+                                   for (uint64_t id : s->objectIds) l.append(ObjectView{s, id});
                                    return l;
                                })
         .def_property_readonly("lights",
                                [](const SceneRef& s) {
                                    py::list l;
-                                   for (size_t i = 0; i < s->scene->lights.size(); ++i) l.append(LightView{s, i});
+                                   for (uint64_t id : s->lightIds) l.append(LightView{s, id});
                                    return l;
                                })
         .def_property(

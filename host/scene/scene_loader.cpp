@@ -31,12 +31,7 @@ using namespace xml;
 
 // ---- Value ranges ------------------------------------------------------------------
 
-constexpr Range kIorRange{0.1, 10, false, false};
-constexpr Range kShininessRange{0, 1e5, true, false};
-constexpr Range kFovRange{0, 180, true, true};
-// A spot's cone: 0 <= inner < outer <= 90 degrees.
-constexpr Range kInnerAngleRange{0, 90, false, true};
-constexpr Range kOuterAngleRange{0, 90, true, false};
+// kIorRange, kShininessRange, kFovRange and the spot angles: scene_loader.h.
 
 // ---- The schema ----------------------------------------------------------------------
 

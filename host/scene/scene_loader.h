@@ -6,11 +6,21 @@
 
 #include "scene/scene.h"
 #include "scene/scene_error.h"
+#include "scene/xml_reader.h"
 
 #include <filesystem>
 #include <string_view>
 
 namespace whitted {
+
+// The format's own value ranges beside the XML reader's (scene/xml_reader.h),
+// shared with what builds scenes in code (the Python module).
+inline constexpr xml::Range kIorRange{0.1, 10, false, false};
+inline constexpr xml::Range kShininessRange{0, 1e5, true, false};
+inline constexpr xml::Range kFovRange{0, 180, true, true};
+// A spot's cone: 0 <= inner < outer <= 90 degrees.
+inline constexpr xml::Range kInnerAngleRange{0, 90, false, true};
+inline constexpr xml::Range kOuterAngleRange{0, 90, true, false};
 
 // Reads and loads the file at `path`; a file that cannot be read gives
 // SceneError(path, 0, "cannot read file: <reason>").

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "scene/scene.h"
+#include "scene/shape_edit.h"  // translateShape, shapeReferencePoint, checkerAnchor, shapeName
 
 namespace whitted {
 
@@ -61,19 +62,5 @@ std::optional<std::string> objectFieldValueError(ObjectField field, double value
 // object does not have, or a bad value (the scene is then unchanged).
 std::optional<std::string> setObjectField(Scene& scene, int object, ObjectField field, double value);
 std::optional<std::string> setObjectField(Scene& scene, int object, const std::string& field, double value);
-
-// Moves a shape by `delta` (every point of it).
-void translateShape(Shape& shape, const glm::dvec3& delta);
-// The point the panel shows as an object's position (sphere centre,
-// cylinder base, plane point, box min corner, first vertex otherwise).
-glm::dvec3 shapeReferencePoint(const Shape& shape);
-
-// Where a checker switched on starts its cells: where the loader anchors
-// them, the object's <position> (a model file's placement, the reference
-// point of every other shape), so the saved file reloads it.
-glm::dvec3 checkerAnchor(const Shape& shape);
-
-// "sphere", "cylinder", "plane", "triangle", "box", "mesh" or "csg".
-const char* shapeName(const Shape& shape);
 
 }  // namespace whitted
