@@ -85,11 +85,7 @@ py::tuple toTuple(const glm::dvec3& v) { return py::make_tuple(v.x, v.y, v.z); }
 
 // ---- Views into a scene: they keep it alive and bump its counters ----
 
-struct CameraView {
-    SceneRef s;
-    Camera& c() const { return s->scene->camera; }
-    void edited() const { ++s->versions.camera; }
-};
+// CameraView: python_api.h (camera_api.cpp adds to the class).
 struct ObjectView {
     SceneRef s;
     size_t index;
