@@ -157,7 +157,7 @@ public:
     py::object render(const SceneRef& handle, std::optional<int> width, std::optional<int> height, int spp,
                       const std::string& aa, std::optional<double> aaThreshold, int maxDepth, py::object aovsArg,
                       int aovBounces, std::optional<std::vector<int>> region, const std::string& trace,
-                      py::object progress, py::object camerasArg) {
+                      py::object progress, py::object camerasArg, py::object seedArg) {
         // Every option is checked before anything reaches the device.
         auto bad = [](const std::string& what) { throw py::value_error(what); };
         const Scene& scene = *handle->scene;
@@ -233,6 +233,16 @@ public:
         if (trace != "auto" && trace != "bvh" && trace != "rayquery")
             bad("trace: must be 'auto', 'bvh' or 'rayquery', got '" + trace + "'");
         s.trace = trace == "rayquery" ? TracePath::RayQuery : trace == "bvh" ? TracePath::Bvh : TracePath::Auto;
+        // seed: FrameParams.seed, xor-ed into each pixel's pattern hash
+        // (whitted.comp): a function of the pixel and the seed only.
+        if (!py::isinstance<py::int_>(seedArg) || py::isinstance<py::bool_>(seedArg))
+            bad("seed: must be an integer in 0..4294967295");
+        {
+            py::int_ seedValue = seedArg.cast<py::int_>();
+            if (seedValue < py::int_(0) || seedValue > py::int_(0xFFFFFFFFu))
+                bad("seed: must be in 0..4294967295, got " + py::str(seedValue).cast<std::string>());
+            s.seed = seedValue.cast<uint32_t>();
+        }
 
         // The renderer reads its own copy: the script may edit the scene
         // (or render it elsewhere) while this render runs.
@@ -425,12 +435,13 @@ void addRenderApi(py::module_& m) {
              py::arg("height") = py::none(), py::arg("spp") = 16, py::arg("aa") = "adaptive",
              py::arg("aa_threshold") = py::none(), py::arg("max_depth") = 6, py::arg("aovs") = py::tuple(),
              py::arg("aov_bounces") = 0, py::arg("region") = py::none(), py::arg("trace") = "auto",
-             py::arg("progress") = py::none(), py::arg("cameras") = py::none(),
+             py::arg("progress") = py::none(), py::arg("cameras") = py::none(), py::arg("seed") = 0,
              "Renders the scene (the options of `whitted render`); returns a RenderResult. Releases the GIL; "
              "progress(fraction) is called between bands, where Ctrl+C stops the render. cameras=[Camera, ...] "
              "(e.g. scene.camera.copy() after edits): one render per camera, the scene uploaded once, only the "
              "camera block between them; returns a list of RenderResult (width/height default to the cameras' "
-             "size, which must then agree)");
+             "size, which must then agree). seed (0..2^32-1, default 0: today's patterns): the sample positions within "
+             "each pixel; the same seed gives the same pixels across calls, regions, threads and renderers");
 }
 
 }  // namespace whitted::python

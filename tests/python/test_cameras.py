@@ -227,3 +227,18 @@ def test_bad_camera_lists_raise_value_error(renderer):
         cam = scene.camera.copy()
         cam.projection = "orthographic"
         cam.intrinsics()
+
+
+def test_seed_changes_only_the_sample_patterns_reproducibly(renderer):
+    scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
+    options = dict(width=W, height=H, spp=4, aa="uniform")
+    default = renderer.render(scene, **options).image
+    assert np.array_equal(renderer.render(scene, seed=0, **options).image, default)  # default = seed 0
+    seeded = renderer.render(scene, seed=12345, **options).image
+    assert not np.array_equal(seeded, default)
+    assert np.array_equal(whitted.Renderer().render(scene, seed=12345, **options).image, seeded)  # another renderer
+    region = renderer.render(scene, seed=12345, region=(8, 4, 40, 30), **options).image  # a tile of it
+    assert np.array_equal(region, seeded[4:30, 8:40])
+    for bad in (-1, 2 ** 32, 1.5, "7", True):
+        with pytest.raises(ValueError, match="seed: must be"):
+            renderer.render(scene, seed=bad, **options)
