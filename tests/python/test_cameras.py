@@ -141,6 +141,10 @@ def test_scene_with_matrix_camera_refuses_to_save(tmp_path):
     with pytest.raises(ValueError, match="intrinsic matrix"):
         scene.save(tmp_path / "x.xml")
     assert not (tmp_path / "x.xml").exists()
+    with pytest.raises(ValueError, match="intrinsic matrix"):
+        scene.to_xml()
+    scene.camera.clear_intrinsics()  # the fov again: the format holds it
+    assert whitted.loads(scene.to_xml()).camera.width == W
 
 
 def test_batch_equals_single_renders_and_uploads_geometry_once():
