@@ -97,6 +97,11 @@ def test_spheres_land_on_their_projected_pixels(renderer, convention, K):
         centroid = np.array([us[mask].mean(), vs[mask].mean()])
         assert np.linalg.norm(centroid - [u, v]) < 0.5, (k, centroid, (u, v))
     assert set(np.unique(ids)) == set(range(len(points))) | {NO_OBJECT}
+    # A render at twice the size scales K with it: pixel centre u -> 2u + 0.5.
+    big = renderer.render(scene, spp=1, aa="uniform", aovs=("object_id",), width=2 * W, height=2 * H)
+    for k, point in enumerate(points):
+        (u, v), _ = project(K, pose, convention, point)
+        assert big.aovs["object_id"][int(round(2 * v + 0.5)), int(round(2 * u + 0.5))] == k, (k, u, v)
 
 
 def test_matrices_read_back_and_conventions_agree():
