@@ -12,6 +12,7 @@ PYBIND11_MODULE(whitted, m) {
     m.doc() = "whitted: a Whitted-style ray tracer on Vulkan (host/python/README.md)";
     m.attr("__version__") = WHITTED_VERSION;
     whitted::python::addSceneApi(m);
+    whitted::python::addCameraApi(m);
     whitted::python::addRenderApi(m);
     m.attr("_renderer") = py::none();
     // whitted.render(scene_or_path, **options): one renderer for the module,

@@ -39,7 +39,16 @@ struct SceneHandle {
 };
 using SceneRef = std::shared_ptr<SceneHandle>;
 
+// whitted.Camera: a scene's camera (scene.camera), or a detached one
+// (Camera.copy(): a scene of its own holding only the camera).
+struct CameraView {
+    SceneRef s;
+    Camera& c() const { return s->scene->camera; }
+    void edited() const { ++s->versions.camera; }
+};
+
 void addSceneApi(py::module_& m);
+void addCameraApi(py::module_& m);  // after addSceneApi: adds to its Camera class
 void addRenderApi(py::module_& m);
 
 }  // namespace whitted::python

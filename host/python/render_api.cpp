@@ -194,13 +194,37 @@ public:
             ContextOptions{.validation = validationFromEnvironment(), .deviceName = device.value_or("")});
     }
 
-    ResultRef render(const SceneRef& handle, std::optional<int> width, std::optional<int> height, int spp,
-                     const std::string& aa, std::optional<double> aaThreshold, int maxDepth, py::object aovsArg,
-                     int aovBounces, std::optional<std::vector<int>> region, const std::string& trace,
-                     py::object progress) {
+    // One render (cameras None: the scene's camera) or a batch, one render
+    // per camera of `cameras` (a list of Camera, e.g. scene.camera.copy()):
+    // the scene goes to the device once, each camera rewrites only the
+    // uniform block. Returns a RenderResult or a list of them.
+    py::object render(const SceneRef& handle, std::optional<int> width, std::optional<int> height, int spp,
+                      const std::string& aa, std::optional<double> aaThreshold, int maxDepth, py::object aovsArg,
+                      int aovBounces, std::optional<std::vector<int>> region, const std::string& trace,
+                      py::object progress, py::object camerasArg, py::object seedArg) {
         // Every option is checked before anything reaches the device.
         auto bad = [](const std::string& what) { throw py::value_error(what); };
         const Scene& scene = *handle->scene;
+        bool batch = !camerasArg.is_none();
+        std::vector<Camera> cameras;
+        if (batch) {
+            if (py::isinstance<py::str>(camerasArg) || !py::isinstance<py::iterable>(camerasArg))
+                bad("cameras: must be a list of Camera (e.g. scene.camera.copy())");
+            for (py::handle h : camerasArg) {
+                if (!py::isinstance<CameraView>(h))
+                    bad("cameras: must be a list of Camera (e.g. scene.camera.copy()), got a " +
+                        py::str(py::type::of(h).attr("__name__")).cast<std::string>());
+                cameras.push_back(h.cast<const CameraView&>().c());
+            }
+            if (cameras.empty()) bad("cameras: the list is empty");
+            for (const Camera& c : cameras)
+                if ((!width && c.width != cameras[0].width) || (!height && c.height != cameras[0].height))
+                    bad("cameras: of different image sizes (" + std::to_string(cameras[0].width) + "x" +
+                        std::to_string(cameras[0].height) + " and " + std::to_string(c.width) + "x" +
+                        std::to_string(c.height) + "); give width= and height=");
+        } else {
+            cameras.push_back(scene.camera);
+        }
         auto side = [&](const char* name, std::optional<int> v, int fallback) {
             int x = v.value_or(fallback);
             if (x < 1 || x > int(gpu::kMaxImageSide))
@@ -208,8 +232,8 @@ public:
             return x;
         };
         RenderSettings s;
-        s.width = side("width", width, scene.camera.width);
-        s.height = side("height", height, scene.camera.height);
+        s.width = side("width", width, cameras[0].width);
+        s.height = side("height", height, cameras[0].height);
         if (spp < 1 || spp > int(gpu::kMaxSamplesPerPixel))
             bad("spp: must be in 1.." + std::to_string(gpu::kMaxSamplesPerPixel) + ", got " + std::to_string(spp));
         s.samplesPerPixel = spp;
@@ -253,19 +277,24 @@ public:
         if (trace != "auto" && trace != "bvh" && trace != "rayquery")
             bad("trace: must be 'auto', 'bvh' or 'rayquery', got '" + trace + "'");
         s.trace = trace == "rayquery" ? TracePath::RayQuery : trace == "bvh" ? TracePath::Bvh : TracePath::Auto;
+        // seed: FrameParams.seed, xor-ed into each pixel's pattern hash
+        // (whitted.comp): a function of the pixel and the seed only.
+        if (!py::isinstance<py::int_>(seedArg) || py::isinstance<py::bool_>(seedArg))
+            bad("seed: must be an integer in 0..4294967295");
+        {
+            py::int_ seedValue = seedArg.cast<py::int_>();
+            if (seedValue < py::int_(0) || seedValue > py::int_(0xFFFFFFFFu))
+                bad("seed: must be in 0..4294967295, got " + py::str(seedValue).cast<std::string>());
+            s.seed = seedValue.cast<uint32_t>();
+        }
 
-        auto result = std::make_shared<Result>();
-        result->settings = s;
-        result->aovs = aovs;
-        result->scenePath = scene.sourcePath;
-        result->device = ctx_->deviceInfo();
         // The renderer reads its own copy: the script may edit the scene
         // (or render it elsewhere) while this render runs.
         Scene copy = scene;
-        if (s.ids) {
-            result->masksScene = std::make_shared<const Scene>(scene);
-            result->objectIds = handle->objectIds;
-        }
+        copy.camera = cameras[0];
+        std::shared_ptr<const Scene> masksScene;
+        if (s.ids) masksScene = std::make_shared<const Scene>(scene);
+        const std::vector<uint64_t> objectIds = handle->objectIds;
         Versions versions = handle->versions;
         uint64_t id = handle->id;
         bool hasProgress = !progress.is_none();
@@ -274,22 +303,50 @@ public:
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
             if (hasProgress) progress(fraction);
         };
+        std::vector<ResultRef> results;
         {
             py::gil_scoped_release release;
             std::lock_guard lock(mutex_);
-            uint32_t messagesBefore = ctx_->validationMessageCount();
-            result->uploads = upload(copy, versions, id, s);
-            result->pixels.layout = renderer_->layout();
-            PixelSink sink(result->pixels);
-            result->stats = renderer_->renderTo(sink, between);
-            result->stats.layout = renderer_->layout();
-            if (ctx_->validationMessageCount() != messagesBefore)
-                throw std::runtime_error("the Vulkan validation layer reported " +
-                                         std::to_string(ctx_->validationMessageCount() - messagesBefore) +
-                                         " message(s) during this render");
+            for (size_t i = 0; i < cameras.size(); ++i) {
+                auto result = std::make_shared<Result>();
+                result->settings = s;
+                result->aovs = aovs;
+                result->scenePath = scene.sourcePath;
+                result->device = ctx_->deviceInfo();
+                result->masksScene = masksScene;
+                if (s.ids) result->objectIds = objectIds;
+                uint32_t messagesBefore = ctx_->validationMessageCount();
+                if (i == 0) {
+                    result->uploads = upload(copy, versions, id, s);
+                } else {
+                    result->uploads = {{"renderer", false}, {"geometry", false}, {"bvh", false},
+                                       {"materials", false}, {"lights", false}, {"camera", false}};
+                }
+                if (batch) {
+                    // The scene's camera version says nothing of a batch's
+                    // cameras: each is sent, and the next render sends the
+                    // scene's camera again.
+                    renderer_->setCamera(cameras[i]);
+                    result->uploads["camera"] = true;
+                    uploaded_.versions.camera = kBatchCamera;
+                }
+                result->pixels.layout = renderer_->layout();
+                PixelSink sink(result->pixels);
+                result->stats = renderer_->renderTo(sink, between);
+                result->stats.layout = renderer_->layout();
+                if (ctx_->validationMessageCount() != messagesBefore)
+                    throw std::runtime_error("the Vulkan validation layer reported " +
+                                             std::to_string(ctx_->validationMessageCount() - messagesBefore) +
+                                             " message(s) during this render");
+                results.push_back(std::move(result));
+            }
         }
-        if (s.ids) stableObjectIds(*result);
-        return result;
+        if (s.ids)
+            for (ResultRef& r : results) stableObjectIds(*r);
+        if (!batch) return py::cast(results[0]);
+        py::list out;
+        for (ResultRef& r : results) out.append(py::cast(r));
+        return out;
     }
 
     py::dict device() const { return deviceDict(ctx_->deviceInfo()); }
@@ -330,6 +387,10 @@ private:
         uploaded_ = {id, versions, s};
         return u;
     }
+
+    // uploaded_.versions.camera after a batch: no scene's counter (they
+    // count up from 0), so the scene's camera is sent again.
+    static constexpr uint64_t kBatchCamera = ~uint64_t(0);
 
     std::unique_ptr<VulkanContext> ctx_;
     std::unique_ptr<Renderer> renderer_;
@@ -425,9 +486,13 @@ void addRenderApi(py::module_& m) {
              py::arg("height") = py::none(), py::arg("spp") = 16, py::arg("aa") = "adaptive",
              py::arg("aa_threshold") = py::none(), py::arg("max_depth") = 6, py::arg("aovs") = py::tuple(),
              py::arg("aov_bounces") = 0, py::arg("region") = py::none(), py::arg("trace") = "auto",
-             py::arg("progress") = py::none(),
+             py::arg("progress") = py::none(), py::arg("cameras") = py::none(), py::arg("seed") = 0,
              "Renders the scene (the options of `whitted render`); returns a RenderResult. Releases the GIL; "
-             "progress(fraction) is called between bands, where Ctrl+C stops the render");
+             "progress(fraction) is called between bands, where Ctrl+C stops the render. cameras=[Camera, ...] "
+             "(e.g. scene.camera.copy() after edits): one render per camera, the scene uploaded once, only the "
+             "camera block between them; returns a list of RenderResult (width/height default to the cameras' "
+             "size, which must then agree). seed (0..2^32-1, default 0: today's patterns): the sample positions within "
+             "each pixel; the same seed gives the same pixels across calls, regions, threads and renderers");
 }
 
 }  // namespace whitted::python

@@ -91,11 +91,7 @@ py::tuple toTuple(const glm::dvec3& v) { return py::make_tuple(v.x, v.y, v.z); }
 
 // ---- Views into a scene: they keep it alive and bump its counters ----
 
-struct CameraView {
-    SceneRef s;
-    Camera& c() const { return s->scene->camera; }
-    void edited() const { ++s->versions.camera; }
-};
+// CameraView: python_api.h (camera_api.cpp adds to the class).
 // Object and light views hold the handle's id of what they show (python_api.h):
 // one removed raises KeyError, the others keep working.
 size_t indexOf(const std::vector<uint64_t>& ids, uint64_t id, const char* what) {

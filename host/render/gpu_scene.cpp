@@ -145,6 +145,21 @@ void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p
     double aspect = double(width) / double(height);
     p.eye = glm::vec3(camera.eye);
     p.projection = orthographic ? gpu::kProjectionOrthographic : gpu::kProjectionPerspective;
+    if (!orthographic && camera.intrinsics) {
+        // From K (scene/camera_matrices.h), for the camera's width x height
+        // and so for any render size: the window's half extents are
+        // width / 2fx and height / 2fy, its centre off the axis by where the
+        // principal point is off the image's centre (pixel centres at
+        // integers, image centre at (width - 1) / 2). forward is then not
+        // unit; generateCameraRay normalizes the sum.
+        const Camera::Intrinsics& k = *camera.intrinsics;
+        double w = camera.width, h = camera.height;
+        double offRight = ((w - 1) / 2.0 - k.cx) / k.fx, offUp = (k.cy - (h - 1) / 2.0) / k.fy;
+        p.forward = glm::vec3(forward + offRight * right + offUp * up);
+        p.right = glm::vec3(right * (w / (2.0 * k.fx)));
+        p.up = glm::vec3(up * (h / (2.0 * k.fy)));
+        return;
+    }
     p.forward = glm::vec3(forward);
     p.right = glm::vec3(right * halfHeight * aspect);
     p.up = glm::vec3(up * halfHeight);

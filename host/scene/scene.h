@@ -41,6 +41,17 @@ struct Camera {
     double windowHeight = 2.0;  // orthographic
     int width = 640;
     int height = 480;
+    // Set from an intrinsic matrix (Python's Camera.set_from_matrices,
+    // scene/camera_matrices.h): pixels of the width x height image, OpenCV's
+    // (origin at the top-left pixel's centre, x right, y down). While set, a
+    // perspective camera's window comes from these, not verticalFovDegrees;
+    // eye/windowCenter/up still give the pose. Not in the XML format (the
+    // scene writer refuses such a camera).
+    struct Intrinsics {
+        double fx = 0, fy = 0, cx = 0, cy = 0;
+        bool operator==(const Intrinsics&) const = default;
+    };
+    std::optional<Intrinsics> intrinsics;
 };
 
 // Whether a camera has an image frame: its eye and window centre apart, its

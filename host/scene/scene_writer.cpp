@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <stdexcept>
 #include <type_traits>
 #include <variant>
 
@@ -38,6 +39,12 @@ private:
 };
 
 void writeCamera(XmlOut& x, const Camera& c) {
+    // The XML camera has a vertical field of view only: square pixels, a
+    // centred principal point (scene/scene.h Camera::intrinsics).
+    if (c.intrinsics && c.projection == Camera::Projection::Perspective)
+        throw std::invalid_argument(
+            "camera: set from an intrinsic matrix (fx, fy, cx, cy), which the scene format cannot hold "
+            "(its camera has a vertical fov, square pixels and a centred principal point)");
     x.open("camera");
     x.vector("position", c.eye);
     x.vector("window_position", c.windowCenter);

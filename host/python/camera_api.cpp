@@ -1,0 +1,123 @@
+// Camera.set_from_matrices, intrinsics(), cam_to_world(), clear_intrinsics()
+// and copy(): cameras from and to the matrices of computer-vision tools
+// (scene/camera_matrices.h; host/python/README.md "Cameras from matrices").
+// Added to the Camera class scene_api.cpp makes.
+#include "python/python_api.h"
+#include "scene/camera_matrices.h"
+
+#include <pybind11/numpy.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace whitted::python {
+namespace {
+
+using Matrix = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+// A rows x cols matrix of numbers, or ValueError naming the field.
+Matrix matrixArg(const py::object& x, const char* field, py::ssize_t rows, py::ssize_t cols) {
+    std::string want = std::to_string(rows) + "x" + std::to_string(cols);
+    Matrix a;
+    try {
+        a = x.cast<Matrix>();
+    } catch (const py::cast_error&) {
+        throw py::value_error(std::string(field) + ": must be a " + want + " matrix of numbers");
+    } catch (const py::error_already_set&) {  // numpy could not make numbers of it
+        throw py::value_error(std::string(field) + ": must be a " + want + " matrix of numbers");
+    }
+    if (a.ndim() != 2 || a.shape(0) != rows || a.shape(1) != cols) {
+        std::string got;
+        for (py::ssize_t i = 0; i < a.ndim(); ++i) got += (i ? "x" : "") + std::to_string(a.shape(i));
+        throw py::value_error(std::string(field) + ": must be a " + want + " matrix, got shape " +
+                              (got.empty() ? "()" : got));
+    }
+    return a;
+}
+
+CameraConvention conventionArg(const std::string& c) {
+    if (c == "opencv") return CameraConvention::OpenCV;
+    if (c == "opengl") return CameraConvention::OpenGL;
+    throw py::value_error("convention: must be 'opencv' or 'opengl', got '" + c + "'");
+}
+
+py::array_t<double> toArray(const double* columnMajor, py::ssize_t n) {
+    py::array_t<double> out({n, n});
+    auto m = out.mutable_unchecked<2>();
+    for (py::ssize_t r = 0; r < n; ++r)
+        for (py::ssize_t c = 0; c < n; ++c) m(r, c) = columnMajor[c * n + r];
+    return out;
+}
+
+}  // namespace
+
+void addCameraApi(py::module_& m) {
+    auto camera = py::reinterpret_borrow<py::class_<CameraView>>(m.attr("Camera"));
+    camera
+        .def(
+            "set_from_matrices",
+            [](const CameraView& v, const py::object& K, const py::object& pose, int width, int height,
+               const std::string& convention) {
+                CameraConvention conv = conventionArg(convention);
+                Matrix k = matrixArg(K, "K", 3, 3), p = matrixArg(pose, "cam_to_world", 4, 4);
+                glm::dmat3 km;
+                glm::dmat4 pm;
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 3; ++c) km[c][r] = k.at(r, c);
+                for (int r = 0; r < 4; ++r)
+                    for (int c = 0; c < 4; ++c) pm[c][r] = p.at(r, c);
+                try {
+                    v.c() = cameraFromMatrices(v.c(), km, pm, width, height, conv);
+                } catch (const std::invalid_argument& e) {
+                    throw py::value_error(e.what());
+                }
+                v.edited();
+            },
+            py::arg("K"), py::arg("cam_to_world"), py::arg("width"), py::arg("height"), py::arg("convention") = "opencv",
+            "Sets the camera from a 3x3 intrinsic matrix K (pixels: u right, v down, (0, 0) the top-left pixel's "
+            "centre; fx != fy and any principal point allowed, skew must be 0) and a 4x4 rigid camera-to-world pose "
+            "whose columns are the camera's x, y, z axes and position: convention 'opencv' (x right, y down, "
+            "z forward) or 'opengl' (x right, y up, -z forward). K is for a width x height image; a render at "
+            "another size scales it. The scene format cannot hold such a camera: Scene.save refuses it.")
+        .def(
+            "intrinsics",
+            [](const CameraView& v) {
+                glm::dmat3 k;
+                try {
+                    k = cameraIntrinsicMatrix(v.c());
+                } catch (const std::invalid_argument& e) {
+                    throw py::value_error(e.what());
+                }
+                return toArray(&k[0][0], 3);
+            },
+            "K (3x3 float64, pixels of the width x height image, the conventions of set_from_matrices): the matrix "
+            "set, or the one the fov gives (fx = fy, centred); ValueError for an orthographic camera")
+        .def(
+            "cam_to_world",
+            [](const CameraView& v, const std::string& convention) {
+                glm::dmat4 m4 = cameraToWorld(v.c(), conventionArg(convention));
+                return toArray(&m4[0][0], 4);
+            },
+            py::arg("convention") = "opencv",
+            "The 4x4 camera-to-world pose (float64): columns x, y, z axes and position, 'opencv' or 'opengl' axes")
+        .def_property_readonly(
+            "has_intrinsics", [](const CameraView& v) { return v.c().intrinsics.has_value(); },
+            "whether set_from_matrices set K (then fov is not used)")
+        .def(
+            "clear_intrinsics",
+            [](const CameraView& v) {
+                v.c().intrinsics.reset();
+                v.edited();
+            },
+            "Drops the K of set_from_matrices: the fov gives the window again (the pose stays)")
+        .def(
+            "copy",
+            [](const CameraView& v) {
+                Scene only;
+                only.camera = v.c();
+                return CameraView{std::make_shared<SceneHandle>(std::move(only))};
+            },
+            "A detached copy (for Renderer.render(cameras=[...])): edits to it leave the scene alone");
+}
+
+}  // namespace whitted::python
