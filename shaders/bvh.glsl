@@ -66,14 +66,41 @@ const uint kNoEntry = 0xffffffffu;
 // words: the child's bytes of the quantised bounds (lo and hi on x, y, z),
 // its info byte and the node's inclusive prefix sum of leaf counts
 // (leafEnd: the end of child k's primitives, relative to primitiveBase).
-// A bound is origin + q * scale, so its ray distance is
-// (q * scale + (origin - ray origin)) / dir: one fma and one product.
+//
+// The test is conservative: a ray that meets child k's true box is never
+// said to miss it (pbrt-v4's robust ray-bounds test: Pharr, Jakob and
+// Humphreys, "Physically Based Rendering", 4th ed., 6.8 "Managing
+// Rounding Error"). Two parts:
+//  - The decoded box contains the child's box. A bound is
+//    origin + q * scale; q * scale is exact (an 8-bit integer times a power
+//    of two), so the sum rounds once whether or not the compiler fuses it,
+//    and gives exactly the host's decode() (host/accel/bvh.cpp), whose
+//    quantisation steps each q outward until decode(q) <= min, resp.
+//    >= max (checked by Bvh.QuantisedBoxesContainTheirChildren).
+//  - The slab distances t = (bound - ray origin) * invDir carry three
+//    roundings (the difference, the reciprocal, the product), so a
+//    computed t is within a factor (1 +- gamma(n)) of the exact one,
+//    gamma(n) = n u / (1 - n u), u = 2^-24, and n = 7 rather than pbrt's
+//    3 because Vulkan allows 1.0 / x an error of 2.5 ULP (5 u; lavapipe
+//    divides exactly). Growing each exit distance by (1 + 2 gamma(7))
+//    makes it at least any computed entry distance of an exactly
+//    overlapping interval, so a ray grazing a box face (a triangle lying
+//    on a node's grid plane) still enters it. Before this, a bound was
+//    fma(q, scale, origin - ray origin): origin - ray origin rounds with an
+//    error relative to the ray's distance to the node's origin, not to the
+//    bound's, which no relative widening of t covers.
+// 2 gamma(7) = 14 u / (1 - 7 u) is a hair above 7 * 2^-23; the factor is
+// 1 + 8 * 2^-23, the next float up, which also covers the rounding of the
+// growth's own product. `precise` keeps the compiler from reassociating
+// origin + q * scale - ray origin (which would undo the first part).
+const float kBoxExitGrowth = 1.00000095367431640625;  // 1 + 8 * 2^-23
 #define WHITTED_CHILD(k, lw, hw, infoWord, endWord, t, e) { \
     uint sh = 8u * uint((k) & 3); \
     vec3 qlo = vec3(uvec3(n.quantX.lw, n.quantY.lw, n.quantZ.lw) >> sh & 0xffu); \
     vec3 qhi = vec3(uvec3(n.quantX.hw, n.quantY.hw, n.quantZ.hw) >> sh & 0xffu); \
-    vec3 tA = fma(qlo, scale, rel) * invDir, tB = fma(qhi, scale, rel) * invDir; \
-    vec3 tNear = min(tA, tB), tFar = max(tA, tB); \
+    precise vec3 tA = (qlo * scale + n.origin - ray.origin) * invDir; \
+    precise vec3 tB = (qhi * scale + n.origin - ray.origin) * invDir; \
+    vec3 tNear = min(tA, tB), tFar = max(tA, tB) * kBoxExitGrowth; \
     float enter = max(max(tNear.x, tNear.y), max(tNear.z, 0.0)); \
     float exit = min(min(tFar.x, tFar.y), min(tFar.z, tLimit)); \
     uint info = (infoWord) >> sh & 0xffu; \
@@ -109,7 +136,6 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                 const float kMiss = 3.4e38;  // beyond any tLimit: sorts last
                 BvhNode n = bvhWalkNodes[children];
                 vec3 scale = uintBitsToFloat(uvec3(n.exponents, n.exponents >> 8u, n.exponents >> 16u) << 23u & 0x7f800000u);
-                vec3 rel = n.origin - ray.origin;
                 // Leaf children's primitive ranges: byte k of the prefix sum
                 // of the leaf counts (inner children's bytes masked to 0) is
                 // the end of child k's range.
