@@ -189,3 +189,25 @@ def test_module_holds_no_window_code():
     import pathlib
     binary = pathlib.Path(whitted.__file__).read_bytes()
     assert b"ImGui" not in binary and b"glfw" not in binary
+
+
+def test_dataset_example_writes_ten_frames_with_legends(tmp_path):
+    """tools/examples/dataset.py (the README's Python example): 10 frames, each an image with depth, normals and
+    object masks whose ids are those of its legend; ids of removed objects are never reused across frames."""
+    import json, os, subprocess, sys
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    env = dict(os.environ, PYTHONPATH=os.environ.get("PYTHONPATH", ""))
+    subprocess.run([sys.executable, os.path.join(root, "tools", "examples", "dataset.py"), str(tmp_path)],
+                   check=True, env=env, capture_output=True)
+    seen = set()
+    for frame in range(10):
+        legend = json.loads((tmp_path / f"frame{frame:02d}.legend.json").read_text())
+        ids = {int(k) for k in legend}
+        assert legend["0"] == "floor" and len(ids) == 21
+        assert not (ids - {0}) & seen, "an id was reused"
+        seen |= ids - {0}
+        mask = read_exr(str(tmp_path / f"frame{frame:02d}.object_id.exr"))
+        shown = set(np.unique(mask).astype(np.int64).tolist()) - {0xFFFFFFFF}
+        assert shown <= ids and len(shown) > 10, (frame, shown)
+        for name in ("depth", "normal"):
+            assert (tmp_path / f"frame{frame:02d}.{name}.exr").is_file()
