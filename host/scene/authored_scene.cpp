@@ -5,6 +5,7 @@
 #include "io/mtl_file.h"
 #include "scene/mesh_objects.h"
 #include "scene/scene_error.h"
+#include "scene/scene_loader.h"
 
 #include <algorithm>
 #include <cctype>
@@ -17,12 +18,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Every position of a scene is within ±kMaxMagnitude (scene/xml_reader.h);
-// node transforms multiply, so a placed glTF point is checked where placed.
-bool withinMagnitude(const glm::dvec3& v) {
-    using xml::kMaxMagnitude;
-    return std::abs(v.x) <= kMaxMagnitude && std::abs(v.y) <= kMaxMagnitude && std::abs(v.z) <= kMaxMagnitude;
-}
+// Every position of a scene is within ±1e6 (xml::withinMagnitude); node
+// transforms multiply, so a placed glTF point is checked where placed.
+using xml::withinMagnitude;
 
 std::string lowerExtension(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
@@ -340,7 +338,7 @@ Material materialFromMtl(const MtlMaterial& m, const std::string& file, std::vec
         out.transmission = 1;
         out.ior = illum == 6 || illum == 7 ? ni : 1.0;
         // The scene format's index of refraction is in [0.1, 10] (<refraction_coef>).
-        if (!(out.ior >= 0.1 && out.ior <= 10))
+        if (!(out.ior >= kIorRange.lo && out.ior <= kIorRange.hi))
             throw SceneError(file, m.illumLine,
                              "illum " + std::to_string(illum) + " refracts by Ni, which must then be in [0.1, 10]");
         out.transmissionColor = (glm::dvec3(1) - glm::min(ks, glm::dvec3(1))) * tf;

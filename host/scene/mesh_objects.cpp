@@ -44,9 +44,7 @@ struct Placement {
     // are; false when <scale> or <rotation> take a vertex further.
     bool inRange(const glm::dvec3& v) const {
         if (identity) return true;
-        glm::dvec3 placed = linear * v;
-        return std::abs(placed.x) <= kMaxMagnitude && std::abs(placed.y) <= kMaxMagnitude &&
-               std::abs(placed.z) <= kMaxMagnitude;
+        return withinMagnitude(linear * v);
     }
     // An unmoved vertex is kept as it is (adding zero would turn -0 into 0).
     glm::dvec3 point(const glm::dvec3& v) const {
@@ -286,7 +284,7 @@ Mesh readGltfPart(const Diagnostics& diag, const XMLElement* e, const Placement&
         if (placement.position != glm::dvec3(0))
             for (glm::dvec3* v : {&t.v0, &t.v1, &t.v2}) *v += placement.position;
         for (const glm::dvec3& v : {t.v0, t.v1, t.v2})
-            if (!(std::abs(v.x) <= kMaxMagnitude && std::abs(v.y) <= kMaxMagnitude && std::abs(v.z) <= kMaxMagnitude))
+            if (!withinMagnitude(v))
                 diag.fail(e, name + ": part \"" + part + "\" is placed beyond ±1e6 or not finite");
     }
     if (fileMaterials.wanted) {  // the primitive's own base colour, texture and normal texture

@@ -13,6 +13,7 @@
 #include <tinyxml2.h>
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -26,6 +27,10 @@ using tinyxml2::XMLText;
 
 // Every number of the format is within ±kMaxMagnitude (scenes/README.md "Scene files").
 inline constexpr double kMaxMagnitude = 1e6;
+// Whether every coordinate of `v` is within ±kMaxMagnitude (false for NaN).
+inline bool withinMagnitude(const glm::dvec3& v) {
+    return std::abs(v.x) <= kMaxMagnitude && std::abs(v.y) <= kMaxMagnitude && std::abs(v.z) <= kMaxMagnitude;
+}
 // Below this length a direction (or the eye-to-window vector) counts as zero.
 inline constexpr double kMinLength = 1e-12;
 
