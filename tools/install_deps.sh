@@ -22,6 +22,8 @@ packages=(
   spirv-tools                                          # spirv-opt: less SPIR-V for the driver to compile
   libglm-dev libtinyxml2-dev libcli11-dev nlohmann-json3-dev  # vectors, the XML scenes, the command line, the render record
   libopenimageio-dev                                   # EXR/TIFF/JPEG and textures (the image module, host/io/)
+  openimageio-tools                                    # OpenImageIO's CMake package names these binaries (iconvert ...): without them
+                                                       # `cmake -S . -B build` stops; the tests use its oiiotool as an independent reader
   libpng-dev                                           # PNG written without the image module (host/io/png_file.cpp)
   libassimp-dev                                        # model files: OBJ, glTF, PLY ... (host/io/mesh_file.cpp)
   libglfw3-dev libimgui-dev                            # `whitted view`, the live window (host/view/)
@@ -38,7 +40,6 @@ test_packages=(
   libgtest-dev                                         # build/tests/whitted_tests (tests/CMakeLists.txt)
   vulkan-validationlayers                              # every test renders with the Khronos validation layer (--validate)
   vulkan-tools                                         # vulkaninfo, to see which devices a failing test had
-  openimageio-tools                                    # oiiotool, the tests' independent reader (tests/cli_test.cpp)
   xvfb xauth xdotool                                   # `whitted view` under a virtual X server (tests/view_test.cpp)
   assimp-testmodels                                    # real models for the tests and the glTF/OBJ fuzzers' seeds
   povray                                               # the POV-Ray cross-check and the benchmark's opponent
