@@ -39,24 +39,23 @@ private:
 };
 
 void writeCamera(XmlOut& x, const Camera& c) {
-    // The XML camera has a vertical field of view only: square pixels, a
-    // centred principal point (scene/scene.h Camera::intrinsics).
-    if (c.intrinsics && c.projection == Camera::Projection::Perspective)
-        throw std::invalid_argument(
-            "camera: set from an intrinsic matrix (fx, fy, cx, cy), which the scene format cannot hold "
-            "(its camera has a vertical fov, square pixels and a centred principal point)");
     x.open("camera");
     x.vector("position", c.eye);
     x.vector("window_position", c.windowCenter);
     x.vector("up", c.up);
+    bool k = c.intrinsics && c.projection == Camera::Projection::Perspective;
     if (c.projection == Camera::Projection::Orthographic) {
         x.value("projection", std::string("orthographic"));
         x.value("window_height", c.windowHeight);
-    } else {
+    } else if (!k) {
         x.value("fov", c.verticalFovDegrees);
     }
     x.value("width", std::to_string(c.width));
     x.value("height", std::to_string(c.height));
+    // K instead of the fov (scene/scene.h Camera::intrinsics).
+    if (k)
+        x.line("<intrinsics fx=\"" + number(c.intrinsics->fx) + "\" fy=\"" + number(c.intrinsics->fy) + "\" cx=\"" +
+               number(c.intrinsics->cx) + "\" cy=\"" + number(c.intrinsics->cy) + "\"/>");
     x.close("camera");
 }
 
