@@ -8,6 +8,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -35,6 +36,9 @@ struct SceneHandle {
     uint64_t id = 0;
     std::vector<uint64_t> objectIds, lightIds;
     uint64_t nextObjectId = 0, nextLightId = 0;
+    // Object.transform as last set, by object id (absent: the identity):
+    // relative to the object as it was added or loaded.
+    std::map<uint64_t, glm::dmat4> transforms;
     explicit SceneHandle(Scene s);
 };
 using SceneRef = std::shared_ptr<SceneHandle>;

@@ -663,6 +663,36 @@ void addSceneApi(py::module_& m) {
             },
             "its <position>: a sphere's centre, a box's corner, a mesh's placement...")
         .def_property(
+            "transform",
+            [](const ObjectView& v) {
+                v.index();  // KeyError for a removed object
+                auto it = v.s->transforms.find(v.id);
+                glm::dmat4 m = it == v.s->transforms.end() ? glm::dmat4(1.0) : it->second;
+                py::array_t<double> a({4, 4});
+                for (int r = 0; r < 4; ++r)
+                    for (int c = 0; c < 4; ++c) a.mutable_at(r, c) = m[c][r];
+                return a;
+            },
+            [](const ObjectView& v, py::object x) {
+                Object& o = v.o();
+                glm::dmat4 to = transformMatrix(x, "Object.transform");
+                auto it = v.s->transforms.find(v.id);
+                // From where it is now: the new transform after the old one undone.
+                glm::dmat4 step = it == v.s->transforms.end() ? to : to * glm::inverse(it->second);
+                Shape moved = o.shape;
+                try {
+                    transformShape(moved, step);
+                } catch (const std::invalid_argument& e) {
+                    throw py::value_error(std::string("Object.transform: ") + e.what());
+                }
+                o.shape = std::move(moved);
+                o.material.checkerOrigin = glm::dvec3(step * glm::dvec4(o.material.checkerOrigin, 1.0));
+                v.s->transforms[v.id] = to;
+                ++v.s->versions.geometry;
+            },
+            "a 4x4 affine matrix placing the object relative to how it was added or loaded (identity until set); "
+            "setting it moves the shape (scene/shape_edit.h transformShape)")
+        .def_property(
             "radius",
             [](const ObjectView& v) -> py::object {
                 if (const auto* s = std::get_if<Sphere>(&v.o().shape)) return py::float_(s->radius);

@@ -168,3 +168,51 @@ def test_add_file_part_and_errors():
     with pytest.raises(ValueError, match="add_file.transform"):
         scene.add_file(gltf, transform=np.zeros((4, 4)))
     assert len(scene.objects) == 1
+
+
+def test_transform_moves_a_sphere_as_if_built_there_and_reports_the_upload():
+    renderer = whitted.Renderer()
+    scene = lit_scene()
+    ball = scene.add_sphere((-0.5, 0.3, 0.1), 0.5, name="ball")
+    scene.add_box((0.3, -0.2, -0.3), (0.6, 0.6, 0.6))
+    first = renderer.render(scene, spp=1, aa="uniform")
+    move = np.eye(4)
+    move[:3, 3] = (0.4, 0.25, -0.5)
+    ball.transform = move
+    moved = renderer.render(scene, spp=1, aa="uniform")
+    # A transform re-packs the shapes and rebuilds the BVH (one flat BVH over all primitives), on the same pipeline.
+    assert moved.record["uploads"]["geometry"] and moved.record["uploads"]["bvh"]
+    assert not moved.record["uploads"]["renderer"]
+    there = lit_scene()
+    there.add_sphere(tuple(np.array([-0.5, 0.3, 0.1]) + move[:3, 3]), 0.5, name="ball")
+    there.add_box((0.3, -0.2, -0.3), (0.6, 0.6, 0.6))
+    assert np.array_equal(moved.image, renderer.render(there, spp=1, aa="uniform").image)
+    assert not np.array_equal(moved.image, first.image)
+    np.testing.assert_array_equal(ball.transform, move)
+    # Absolute, not accumulated: the identity puts it back; a uniform scale scales the radius.
+    # (Each set applies the new transform after the old one undone, to the last bits of a double.)
+    ball.transform = np.eye(4)
+    assert ball.position == pytest.approx((-0.5, 0.3, 0.1), abs=1e-15) and ball.radius == 0.5
+    ball.transform = np.diag([2.0, 2.0, 2.0, 1.0])
+    assert ball.radius == 1.0 and ball.position == pytest.approx((-1.0, 0.6, 0.2), abs=1e-15)
+    with pytest.raises(ValueError, match="Object.transform: a sphere takes only a rotation, a uniform scale"):
+        ball.transform = np.diag([1.0, 2.0, 1.0, 1.0])
+    assert ball.radius == 1.0  # unchanged
+    with pytest.raises(ValueError, match="Object.transform: a box stays axis-aligned"):
+        scene.objects[1].transform = np.array([[0, -1, 0, 0], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+
+
+def test_transform_of_a_mesh_equals_add_mesh_with_that_transform():
+    v = np.array([[-0.5, 0, -0.5], [0.5, 0, -0.5], [0.5, 0, 0.5], [-0.5, 0, 0.5], [0, 1, 0]])
+    f = np.array([[3, 2, 4], [2, 1, 4], [1, 0, 4], [0, 3, 4], [0, 1, 2], [0, 2, 3]])
+    n = v - [0, 0.3, 0]
+    angle = 0.6
+    m = np.eye(4)
+    m[:3, :3] = [[np.cos(angle), 0, np.sin(angle)], [0, 1, 0], [-np.sin(angle), 0, np.cos(angle)]]
+    m[:3, :3] *= [[1.3], [0.8], [1.0]]  # rows scaled: not uniform, fine for a mesh
+    m[:3, 3] = (0.2, -0.1, 0.3)
+    a, b = lit_scene(), lit_scene()
+    a.add_mesh(v, f, normals=n).transform = m
+    b.add_mesh(v, f, normals=n, transform=m)
+    xa, xb = a.to_xml(), b.to_xml()
+    assert xa == xb
