@@ -537,6 +537,12 @@ std::vector<Object> fileObjects(const std::filesystem::path& path, const py::obj
     return std::move(loaded.objects);
 }
 
+// whitted.Mesh: the arrays add_mesh takes, held together (from_trimesh
+// fills them from a trimesh.Trimesh), checked when added.
+struct MeshArrays {
+    py::object vertices, faces, normals, uvs;
+};
+
 // whitted.SceneError; a strong reference kept for the process's life (never
 // released by a static destructor after the interpreter has gone).
 PyObject* sceneError = nullptr;
@@ -820,6 +826,38 @@ void addSceneApi(py::module_& m) {
                    ", reflection=" + shown(v.m.reflection) + ", transmission=" + shown(v.m.transmission) + ")";
         });
 
+    py::class_<MeshArrays>(m, "Mesh", "a triangle mesh's arrays for Scene.add_mesh: vertices (N, 3), faces (M, 3), "
+                                      "normals (N, 3) or None, uvs (N, 2) or None")
+        .def(py::init([](py::object vertices, py::object faces, py::object normals, py::object uvs) {
+                 return MeshArrays{vertices, faces, normals, uvs};
+             }),
+             py::arg("vertices"), py::arg("faces"), py::arg("normals") = py::none(), py::arg("uvs") = py::none())
+        .def_static(
+            "from_trimesh",
+            [](py::object mesh, bool normals) {
+                // trimesh.Trimesh's attributes (read, not imported: any object that has them will do).
+                for (const char* attribute : {"vertices", "faces"})
+                    if (!py::hasattr(mesh, attribute))
+                        throw py::type_error(std::string("Mesh.from_trimesh: expected a trimesh.Trimesh (with .vertices and .faces), got ") +
+                                             py::repr(mesh).cast<std::string>());
+                py::module_ np = py::module_::import("numpy");
+                MeshArrays arrays{np.attr("asarray")(mesh.attr("vertices")), np.attr("asarray")(mesh.attr("faces")),
+                                  py::none(), py::none()};
+                // The vertex normals trimesh has (the file's, else its own from the faces).
+                if (normals) arrays.normals = np.attr("asarray")(mesh.attr("vertex_normals"));
+                // Texture coordinates where its visual has them (trimesh.visual.TextureVisuals.uv).
+                py::object visual = py::getattr(mesh, "visual", py::none());
+                py::object uv = visual.is_none() ? py::none() : py::getattr(visual, "uv", py::none());
+                if (!uv.is_none()) arrays.uvs = np.attr("asarray")(uv);
+                return arrays;
+            },
+            py::arg("mesh"), py::arg("normals") = true,
+            "the arrays of a trimesh.Trimesh: vertices, faces, vertex_normals (normals=True) and visual.uv where it has them")
+        .def_readwrite("vertices", &MeshArrays::vertices)
+        .def_readwrite("faces", &MeshArrays::faces)
+        .def_readwrite("normals", &MeshArrays::normals)
+        .def_readwrite("uvs", &MeshArrays::uvs);
+
     py::class_<SceneHandle, SceneRef>(m, "Scene", "A scene: load() or loads() it, or build it (Scene()), edit it, render it")
         .def(py::init([] {
                  Scene scene;
@@ -886,9 +924,15 @@ void addSceneApi(py::module_& m) {
             "add_mesh",
             [](const SceneRef& s, py::object vertices, py::object faces, py::object normals, py::object uvs,
                py::object material, py::object name, py::object transform) {
+                if (py::isinstance<MeshArrays>(vertices)) {  // add_mesh(whitted.Mesh, ...): its arrays
+                    if (!faces.is_none() || !normals.is_none() || !uvs.is_none())
+                        throw py::type_error("add_mesh: a whitted.Mesh brings its own faces, normals and uvs");
+                    const MeshArrays& arrays = vertices.cast<const MeshArrays&>();
+                    vertices = arrays.vertices, faces = arrays.faces, normals = arrays.normals, uvs = arrays.uvs;
+                }
                 return addObject(s, buildMesh(vertices, faces, normals, uvs, transform), material, name, "add_mesh");
             },
-            py::arg("vertices"), py::arg("faces"), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
+            py::arg("vertices"), py::arg("faces") = py::none(), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
             py::arg("material") = py::none(), py::arg("name") = py::none(), py::arg("transform") = py::none(),
             "a triangle mesh from numpy arrays: vertices (N, 3), faces (M, 3) integers, normals (N, 3), uvs (N, 2), "
             "transform 4x4 (applied to vertices and normals); degenerate faces are skipped with a warning")

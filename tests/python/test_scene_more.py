@@ -216,3 +216,51 @@ def test_transform_of_a_mesh_equals_add_mesh_with_that_transform():
     b.add_mesh(v, f, normals=n, transform=m)
     xa, xb = a.to_xml(), b.to_xml()
     assert xa == xb
+
+
+def pyramid_arrays():
+    v = np.array([[-0.5, 0, -0.5], [0.5, 0, -0.5], [0.5, 0, 0.5], [-0.5, 0, 0.5], [0, 1, 0]])
+    f = np.array([[3, 2, 4], [2, 1, 4], [1, 0, 4], [0, 3, 4], [0, 1, 2], [0, 2, 3]])
+    n = (v - [0, 0.3, 0]) / np.linalg.norm(v - [0, 0.3, 0], axis=1, keepdims=True)
+    uv = v[:, [0, 2]] + 0.5
+    return v, f, n, uv
+
+
+def test_mesh_from_a_trimesh_like_object_equals_add_mesh_of_its_arrays():
+    """Mesh.from_trimesh reads .vertices, .faces, .vertex_normals and .visual.uv (what trimesh.Trimesh has);
+    a stand-in with those attributes runs it without trimesh installed."""
+    from types import SimpleNamespace
+    v, f, n, uv = pyramid_arrays()
+    stand_in = SimpleNamespace(vertices=v, faces=f, vertex_normals=n, visual=SimpleNamespace(uv=uv))
+    mesh = whitted.Mesh.from_trimesh(stand_in)
+    assert mesh.normals is not None and mesh.uvs is not None
+    a, b = lit_scene(), lit_scene()
+    a.add_mesh(mesh, material=whitted.Material(diffuse_texture=np.zeros((2, 2, 3), np.uint8)))
+    b.add_mesh(v, f, normals=n, uvs=uv, material=whitted.Material(diffuse_texture=np.zeros((2, 2, 3), np.uint8)))
+    assert a.objects[0].type == "mesh"
+    assert whitted.Mesh.from_trimesh(stand_in, normals=False).normals is None
+    flat = lit_scene()
+    flat.add_mesh(whitted.Mesh(v, f))
+    assert "<normal" not in flat.to_xml() and "<uv" not in flat.to_xml()
+    c = lit_scene()
+    c.add_mesh(whitted.Mesh.from_trimesh(stand_in))
+    d = lit_scene()
+    d.add_mesh(v, f, normals=n, uvs=uv)
+    assert c.to_xml() == d.to_xml()
+    with pytest.raises(TypeError, match="from_trimesh: expected a trimesh.Trimesh"):
+        whitted.Mesh.from_trimesh(3)
+    with pytest.raises(TypeError, match="brings its own faces"):
+        flat.add_mesh(whitted.Mesh(v, f), f)
+
+
+def test_mesh_from_trimesh():
+    trimesh = pytest.importorskip(
+        "trimesh", reason="trimesh is not installed (python3-trimesh is not in Debian 12's archive, so install_deps.sh cannot list it)")
+    box = trimesh.creation.box(extents=(0.8, 0.5, 0.6))
+    scene = lit_scene()
+    handle = scene.add_mesh(whitted.Mesh.from_trimesh(box, normals=False), name="box")
+    result = whitted.render(scene, aovs=("object_id",), spp=1, aa="uniform")
+    assert (result.aovs["object_id"] == 0).sum() > 100 and handle.type == "mesh"
+    inline = lit_scene()
+    inline.add_mesh(np.asarray(box.vertices), np.asarray(box.faces), name="box")
+    assert inline.to_xml() == scene.to_xml()
