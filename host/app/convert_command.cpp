@@ -3,7 +3,7 @@
 // scene file by the scene writer the window's Save uses, so that it can be
 // edited and renders as the input does.
 #include "app/commands.h"
-#include "app/quick_look.h"
+#include "scene/quick_look.h"
 #include "scene/scene_error.h"
 #include "scene/scene_writer.h"
 

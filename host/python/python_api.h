@@ -1,6 +1,7 @@
 // The Python module `whitted` (host/python/README.md): the scene side
 // (scene_api.cpp) and the renderer side (render_api.cpp), registered by
-// module.cpp. The top layer: it may use every layer below, app included.
+// module.cpp. The top layer: it links the layers below but app and view (no
+// command line, no window; host/CMakeLists.txt).
 #pragma once
 
 #include "scene/scene.h"

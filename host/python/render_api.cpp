@@ -4,7 +4,6 @@
 // rewrites the uniform block; a material edit the materials, no BVH).
 // Rendering releases the GIL; between bands it takes it back to call
 // progress and PyErr_CheckSignals, so Ctrl+C stops a render cleanly.
-#include "app/cli_options.h"
 #include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "output/aov_output.h"

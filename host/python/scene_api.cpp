@@ -3,7 +3,7 @@
 // a few more), lights, save, copy. Every setter checks its value against
 // the scene format's range (the XML reader's) and raises ValueError naming
 // the field and the range before anything reaches a device.
-#include "app/quick_look.h"
+#include "scene/quick_look.h"
 #include "io/texture_file.h"
 #include "python/python_api.h"
 #include "scene/mesh_objects.h"
