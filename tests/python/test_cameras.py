@@ -191,7 +191,7 @@ def test_batch_equals_single_renders_and_uploads_geometry_once():
     assert uploads[0]["geometry"] and uploads[0]["bvh"] and uploads[0]["camera"]
     for u in uploads[1:]:
         assert u == {"renderer": False, "geometry": False, "bvh": False, "materials": False, "lights": False,
-                     "camera": True}
+                     "camera": True, "textures": False}
     single_renderer = whitted.Renderer()
     for pose, result in zip(matrices, results):
         scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")

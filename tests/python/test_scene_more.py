@@ -174,18 +174,21 @@ def test_transform_moves_a_sphere_as_if_built_there_and_reports_the_upload():
     renderer = whitted.Renderer()
     scene = lit_scene()
     ball = scene.add_sphere((-0.5, 0.3, 0.1), 0.5, name="ball")
-    scene.add_box((0.3, -0.2, -0.3), (0.6, 0.6, 0.6))
+    tiles = (gradient(16, 16) * 255).astype(np.uint8)
+    scene.add_box((0.3, -0.2, -0.3), (0.6, 0.6, 0.6), material=whitted.Material(diffuse_texture=tiles))
     first = renderer.render(scene, spp=1, aa="uniform")
+    assert first.record["uploads"]["textures"]
     move = np.eye(4)
     move[:3, 3] = (0.4, 0.25, -0.5)
     ball.transform = move
     moved = renderer.render(scene, spp=1, aa="uniform")
     # A transform re-packs the shapes and rebuilds the BVH (one flat BVH over all primitives), on the same pipeline.
     assert moved.record["uploads"]["geometry"] and moved.record["uploads"]["bvh"]
-    assert not moved.record["uploads"]["renderer"]
+    # The textures stay on the device (the same ones in the same slots).
+    assert not moved.record["uploads"]["renderer"] and not moved.record["uploads"]["textures"]
     there = lit_scene()
     there.add_sphere(tuple(np.array([-0.5, 0.3, 0.1]) + move[:3, 3]), 0.5, name="ball")
-    there.add_box((0.3, -0.2, -0.3), (0.6, 0.6, 0.6))
+    there.add_box((0.3, -0.2, -0.3), (0.6, 0.6, 0.6), material=whitted.Material(diffuse_texture=tiles))
     assert np.array_equal(moved.image, renderer.render(there, spp=1, aa="uniform").image)
     assert not np.array_equal(moved.image, first.image)
     np.testing.assert_array_equal(ball.transform, move)
