@@ -2,7 +2,7 @@
 // written here with their JSON and a base64 buffer, Debian's Cameras.gltf
 // and spider.obj, a generated OBJ/MTL; the orthographic camera, --camera and
 // --exposure.
-#include "app/quick_look.h"
+#include "scene/quick_look.h"
 #include "io/gltf_file.h"
 #include "io/image_io.h"
 #include "io/mtl_file.h"

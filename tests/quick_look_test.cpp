@@ -1,9 +1,9 @@
-// Quick looks (host/app/quick_look.*): a model file given where a scene is
+// Quick looks (host/scene/quick_look.*): a model file given where a scene is
 // expected is framed by a generated camera, lit and put on a floor; the
 // scene written for it references the model and renders the same image.
 #include "test_support.h"
 
-#include "app/quick_look.h"
+#include "scene/quick_look.h"
 #include "io/image_io.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"

@@ -654,7 +654,7 @@ std::vector<BadCase> lightAndCameraCases() {
          "t.xml:2: <camera> is missing <position>"},
         {"UnknownInCamera", cameraWith("<lens>50</lens>"),
          "t.xml:5: unknown element <lens> in <camera>; expected one of: position, window_position, up, fov, "
-         "window_height, width, height, projection"},
+         "window_height, width, height, projection, intrinsics"},
         {"CameraAtWindow", withCamera("<position x=\"1\" y=\"1\" z=\"1\"/><window_position x=\"1\" y=\"1\" z=\"1\"/>"),
          "t.xml:2: camera <position> and <window_position> coincide"},
         {"UpParallel", cameraWith("<up x=\"0\" y=\"0\" z=\"-3\"/>"),

@@ -1,7 +1,6 @@
 #include "app/cli_options.h"
 
 #include <charconv>
-#include <cstdlib>
 #include <stdexcept>
 
 namespace whitted {
@@ -24,11 +23,6 @@ PixelRegion parsePixelRegion(const std::string& text) {
     }
     if (at != end) throw refused();
     return {v[0], v[1], v[2], v[3]};
-}
-
-bool validationFromEnvironment() {
-    const char* v = std::getenv("WHITTED_VALIDATION");
-    return v && *v && std::string(v) != "0";
 }
 
 }  // namespace whitted

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "render/render_settings.h"
+#include "vk/context.h"  // validationFromEnvironment, which the commands use with these
 
 namespace whitted {
 
@@ -12,8 +13,5 @@ namespace whitted {
 // Whether the region lies in the image is the renderer's check (it knows
 // the image's size).
 PixelRegion parsePixelRegion(const std::string& text);
-
-// WHITTED_VALIDATION=1 turns the validation layer on, as --validate does.
-bool validationFromEnvironment();
 
 }  // namespace whitted

@@ -4,7 +4,7 @@
 #include "app/commands.h"
 #include "app/progress_bar.h"
 #include "device_types.h"
-#include "app/quick_look.h"
+#include "scene/quick_look.h"
 #include "io/image_io.h"
 #include "io/image_library.h"
 #include "output/aov_output.h"

@@ -2,7 +2,7 @@
 // (render/ray_tree.h), as indented text or, with --json, the full record.
 #include "app/cli_options.h"
 #include "app/commands.h"
-#include "app/quick_look.h"
+#include "scene/quick_look.h"
 #include "device_types.h"
 #include "render/ray_tree.h"
 #include "render/renderer.h"

@@ -6,7 +6,7 @@
 
 #include "app/cli_options.h"
 #include "app/commands.h"
-#include "app/quick_look.h"
+#include "scene/quick_look.h"
 #include "device_types.h"
 #include "scene/scene_loader.h"
 #include "view/view_app.h"

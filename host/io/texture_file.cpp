@@ -1,15 +1,20 @@
 #include "io/texture_file.h"
 
+#include "io/image_io.h"
 #include "io/image_library.h"
 #include "io/srgb.h"
 
 #include "device_types.h"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <fstream>
 #include <glm/gtc/packing.hpp>
+#include <iterator>
 #include <memory>
 #include <system_error>
 
@@ -164,6 +169,35 @@ TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::s
     data.encoded.assign(bytes.begin(), bytes.end());
     data.encodedFormat = format;
     return data;
+}
+
+TextureData textureFromImagePixels(int width, int height, int channels, std::span<const float> pixels, bool eightBit,
+                                   TextureEncoding encoding, const std::string& name) {
+    // Encoded through the project's image writers into a file of the
+    // temporary folder (they write files, atomically), read back as bytes.
+    static std::atomic<uint64_t> counter{0};
+    const std::string format = eightBit ? "png" : "exr";
+    std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                 ("whitted-texture-" + std::to_string(::getpid()) + "-" + std::to_string(counter++) + "." + format);
+    std::vector<unsigned char> bytes;
+    try {
+        if (eightBit) {
+            std::vector<float> unit(pixels.begin(), pixels.end());
+            for (float& v : unit) v /= 255.0f;  // encode8's Linear8 gives the byte back
+            writeImage(file, width, height, channels, unit, PixelEncoding::Linear8);
+        } else {
+            writeImage(file, width, height, channels, pixels, PixelEncoding::Float);
+        }
+        std::ifstream in(file, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    } catch (const std::runtime_error& e) {
+        std::error_code ec;
+        std::filesystem::remove(file, ec);
+        throw TextureFileError(std::string("could not be encoded: ") + e.what());
+    }
+    std::error_code ec;
+    std::filesystem::remove(file, ec);
+    return readTextureMemory(bytes, format, encoding, name);
 }
 
 TextureData textureFromPixels(int width, int height, std::span<const float> rgba, const std::string& name) {

@@ -43,6 +43,17 @@ TextureData readTextureFile(const std::filesystem::path& path, TextureEncoding e
 // texture); `hint` is its format's extension ("png", "jpg") or empty.
 TextureData readTextureMemory(std::span<const unsigned char> bytes, const std::string& hint, TextureEncoding encoding,
                               const std::string& name);
+// A texture from pixels held in memory (Python's Material(diffuse_texture=
+// array)): `channels` (3 or 4) interleaved values a pixel, rows from the
+// top; eightBit: bytes (as floats 0..255) stored as an 8-bit PNG, else
+// floats stored as a 32-bit float EXR. The texels are decoded from those
+// file bytes as readTextureMemory decodes them (an 8-bit PNG as
+// sRGB-encoded for TextureEncoding::Colour, an EXR as linear), and the
+// bytes kept in TextureData::encoded, so that the file written from them
+// (scene/scene_writer.h writeFilelessTextures) reads back to the same
+// texels. Throws TextureFileError.
+TextureData textureFromImagePixels(int width, int height, int channels, std::span<const float> pixels, bool eightBit,
+                                   TextureEncoding encoding, const std::string& name);
 // A texture from linear RGBA float texels (rows from the top), mip chain built.
 TextureData textureFromPixels(int width, int height, std::span<const float> rgba, const std::string& name);
 

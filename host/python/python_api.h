@@ -1,6 +1,7 @@
 // The Python module `whitted` (host/python/README.md): the scene side
 // (scene_api.cpp) and the renderer side (render_api.cpp), registered by
-// module.cpp. The top layer: it may use every layer below, app included.
+// module.cpp. The top layer: it links the layers below but app and view (no
+// command line, no window; host/CMakeLists.txt).
 #pragma once
 
 #include "scene/scene.h"
@@ -8,6 +9,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <vector>
 
@@ -35,6 +37,9 @@ struct SceneHandle {
     uint64_t id = 0;
     std::vector<uint64_t> objectIds, lightIds;
     uint64_t nextObjectId = 0, nextLightId = 0;
+    // Object.transform as last set, by object id (absent: the identity):
+    // relative to the object as it was added or loaded.
+    std::map<uint64_t, glm::dmat4> transforms;
     explicit SceneHandle(Scene s);
 };
 using SceneRef = std::shared_ptr<SceneHandle>;

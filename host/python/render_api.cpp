@@ -4,7 +4,6 @@
 // rewrites the uniform block; a material edit the materials, no BVH).
 // Rendering releases the GIL; between bands it takes it back to call
 // progress and PyErr_CheckSignals, so Ctrl+C stops a render cleanly.
-#include "app/cli_options.h"
 #include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "output/aov_output.h"
@@ -320,7 +319,8 @@ public:
                     result->uploads = upload(copy, versions, id, s);
                 } else {
                     result->uploads = {{"renderer", false}, {"geometry", false}, {"bvh", false},
-                                       {"materials", false}, {"lights", false}, {"camera", false}};
+                                       {"materials", false}, {"lights", false}, {"camera", false},
+                                       {"textures", false}};
                 }
                 if (batch) {
                     // The scene's camera version says nothing of a batch's
@@ -356,7 +356,7 @@ private:
     // (or the scene) changed, else only the parts whose counters moved.
     nlohmann::json upload(const Scene& scene, const Versions& versions, uint64_t id, const RenderSettings& s) {
         nlohmann::json u = {{"renderer", false}, {"geometry", false}, {"bvh", false},
-                            {"materials", false}, {"lights", false}, {"camera", false}};
+                            {"materials", false}, {"lights", false}, {"camera", false}, {"textures", false}};
         if (!renderer_ || id != uploaded_.sceneId || s != uploaded_.settings) {
             renderer_.reset();  // its device memory goes first
             renderer_ = std::make_unique<Renderer>(*ctx_, scene, s);
@@ -366,11 +366,13 @@ private:
             if (versions.geometry != was.geometry) {
                 renderer_->setScene(scene);
                 u["geometry"] = u["bvh"] = u["materials"] = u["lights"] = u["camera"] = true;
+                u["textures"] = renderer_->texturesUploaded();
             } else {
                 if (versions.materials != was.materials) {
                     if (!renderer_->setMaterials(scene)) {
                         renderer_->setScene(scene);
                         u["geometry"] = u["bvh"] = u["lights"] = u["camera"] = true;
+                        u["textures"] = renderer_->texturesUploaded();
                     }
                     u["materials"] = true;
                 }

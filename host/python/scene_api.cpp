@@ -3,7 +3,8 @@
 // a few more), lights, save, copy. Every setter checks its value against
 // the scene format's range (the XML reader's) and raises ValueError naming
 // the field and the range before anything reaches a device.
-#include "app/quick_look.h"
+#include "scene/quick_look.h"
+#include "io/texture_file.h"
 #include "python/python_api.h"
 #include "scene/mesh_objects.h"
 #include "scene/scene_loader.h"
@@ -424,6 +425,124 @@ Light buildLight(const py::object& position, const py::object& color, const std:
     return l;
 }
 
+// ---- Textures on a Material: a file, or a numpy array ----
+
+// A texture slot's value: a path (read as the loader reads <diffuse_texture>,
+// relative to the working folder) or an (H, W, 3|4) array, uint8 (sRGB-encoded
+// like a PNG's bytes; a normal map's as stored) or float (linear like an EXR's
+// values), kept as the PNG or EXR file save() writes beside the scene
+// (io/texture_file.h textureFromImagePixels). Checked here with the field's
+// name before the image writers see it: the loader's limits (kMaxTextureTexels,
+// the image side, half floats).
+TextureRef textureValue(const py::object& x, TextureEncoding encoding, const std::string& field) {
+    if (x.is_none()) return {};
+    if (py::isinstance<py::str>(x) || py::hasattr(x, "__fspath__")) {
+        std::filesystem::path path = std::filesystem::absolute(x.cast<std::filesystem::path>());
+        try {
+            return {path.string(), std::make_shared<const TextureData>(readTextureFile(path, encoding))};
+        } catch (const TextureFileError& e) {
+            throw py::value_error(field + ": texture file \"" + path.string() + "\" " + e.what());
+        }
+    }
+    const std::string expected = "a file path or an (H, W, 3) or (H, W, 4) array of uint8 (sRGB) or floats (linear)";
+    py::array any = py::array::ensure(x);
+    if (!any) refuse(field, expected, py::repr(x).cast<std::string>());
+    const char kind = any.dtype().kind();
+    const bool eightBit = kind == 'u' && any.itemsize() == 1;
+    if (!eightBit && kind != 'f') refuse(field, expected, "dtype " + py::str(any.dtype()).cast<std::string>());
+    if (any.ndim() != 3 || (any.shape(2) != 3 && any.shape(2) != 4) || any.shape(0) < 1 || any.shape(1) < 1)
+        refuse(field, expected, shapeText(any));
+    const py::ssize_t h = any.shape(0), w = any.shape(1), channels = any.shape(2);
+    if (double(h) > kImageSide.hi || double(w) > kImageSide.hi || size_t(h) * size_t(w) > kMaxTextureTexels)
+        refuse(field, "at most 16384 texels a side and 2^26 (8192x8192) in all", shapeText(any));
+    auto pixels = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(any);
+    std::span<const float> values(pixels.data(), size_t(pixels.size()));
+    for (size_t i = 0; i < values.size(); ++i)
+        if (!std::isfinite(values[i]) || std::abs(values[i]) > kMaxHalf)
+            refuse(field, "finite values within ±65504 (the device's half floats)",
+                   shown(values[i]) + " at texel " + std::to_string(i / size_t(channels)));
+    try {
+        return {"", std::make_shared<const TextureData>(textureFromImagePixels(
+                        int(w), int(h), int(channels), values, eightBit, encoding, field + " (array)"))};
+    } catch (const TextureFileError& e) {
+        throw py::value_error(field + ": the array " + e.what());
+    }
+}
+
+// The texture slots, in Material::textures()' order, and how each is read
+// (the loader's readTextures: colour maps sRGB-decoded, normal maps as data).
+struct TextureSlot {
+    const char* name;
+    TextureEncoding encoding;
+};
+constexpr TextureSlot kTextureSlots[] = {{"diffuse_texture", TextureEncoding::Colour},
+                                         {"normal_map", TextureEncoding::Data},
+                                         {"emission_texture", TextureEncoding::Colour}};
+
+// Whether the scene has a texture that to_xml() could not name: one made
+// from an array (save() writes it as a file), on an object of its own (a
+// model file's objects bring their own textures back with the file).
+void refuseFilelessTextures(const Scene& scene, const std::string& call) {
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        const Object& o = scene.objects[i];
+        const Mesh* mesh = std::get_if<Mesh>(&o.shape);
+        if (mesh && mesh->source) continue;
+        for (const TextureRef* t : o.material.textures())
+            if (*t && t->written.empty())
+                throw py::value_error(call + ": object " + std::to_string(i) + (o.name.empty() ? "" : " ('" + o.name + "')") +
+                                      " has a texture made from an array, which has no file for the XML to name; "
+                                      "save(path) writes it beside the scene file");
+    }
+}
+
+// Scene.add_file: the objects a model file gives as the scene format's
+// <file> element gives them, read by the loader itself from a one-object
+// scene text (scene/mesh_objects.h readMeshObject: parts, placement by
+// <matrix>, the file's materials, one object per material), so that what
+// save() writes (that <file> again) loads back to the same objects.
+std::vector<Object> fileObjects(const std::filesystem::path& path, const py::object& part, const py::object& transform) {
+    std::string file = escapedXml(std::filesystem::absolute(path).lexically_normal().string());
+    std::string element = "<file>" + file + "</file>";
+    if (!part.is_none()) {
+        if (!py::isinstance<py::str>(part)) throw py::type_error("add_file.part: expected a string or None, got " + py::repr(part).cast<std::string>());
+        element = "<file part=\"" + escapedXml(part.cast<std::string>()) + "\">" + file + "</file>";
+    }
+    if (!transform.is_none()) {
+        glm::dmat4 m = transformMatrix(transform, "add_file.transform");
+        std::string rows;
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 4; ++c) rows += (rows.empty() ? "" : " ") + xmlNumber(m[c][r]);
+        element += "<matrix>" + rows + "</matrix>";
+    }
+    const std::string text =
+        "<scene><camera><position x=\"0\" y=\"0\" z=\"0\"/><window_position x=\"0\" y=\"0\" z=\"-1\"/></camera>"
+        "<lights><light><position x=\"0\" y=\"0\" z=\"0\"/><color r=\"1\" g=\"1\" b=\"1\"/></light></lights>"
+        "<objects><object><properties><type>mesh</type>" + element + "</properties></object></objects></scene>";
+    Scene loaded;
+    try {
+        py::gil_scoped_release release;
+        loaded = loadSceneFromString(text, std::filesystem::current_path() / "<add_file>");
+    } catch (const SceneError& e) {
+        throw py::value_error("add_file: " + e.message());
+    }
+    for (const std::string& warning : loaded.warnings) {
+        // Without the place in the made-up text ("<add_file>:1: ").
+        const std::string place = "<add_file>:1: ";
+        std::string w = "add_file: " + (warning.find(place) == std::string::npos
+                                             ? warning
+                                             : warning.substr(warning.find(place) + place.size()));
+        if (PyErr_WarnEx(PyExc_UserWarning, w.c_str(), 1) != 0) throw py::error_already_set();
+    }
+    for (Object& o : loaded.objects) o.sourceLine = 0;
+    return std::move(loaded.objects);
+}
+
+// whitted.Mesh: the arrays add_mesh takes, held together (from_trimesh
+// fills them from a trimesh.Trimesh), checked when added.
+struct MeshArrays {
+    py::object vertices, faces, normals, uvs;
+};
+
 // whitted.SceneError; a strong reference kept for the process's life (never
 // released by a static destructor after the interpreter has gone).
 PyObject* sceneError = nullptr;
@@ -550,6 +669,36 @@ void addSceneApi(py::module_& m) {
             },
             "its <position>: a sphere's centre, a box's corner, a mesh's placement...")
         .def_property(
+            "transform",
+            [](const ObjectView& v) {
+                v.index();  // KeyError for a removed object
+                auto it = v.s->transforms.find(v.id);
+                glm::dmat4 m = it == v.s->transforms.end() ? glm::dmat4(1.0) : it->second;
+                py::array_t<double> a({4, 4});
+                for (int r = 0; r < 4; ++r)
+                    for (int c = 0; c < 4; ++c) a.mutable_at(r, c) = m[c][r];
+                return a;
+            },
+            [](const ObjectView& v, py::object x) {
+                Object& o = v.o();
+                glm::dmat4 to = transformMatrix(x, "Object.transform");
+                auto it = v.s->transforms.find(v.id);
+                // From where it is now: the new transform after the old one undone.
+                glm::dmat4 step = it == v.s->transforms.end() ? to : to * glm::inverse(it->second);
+                Shape moved = o.shape;
+                try {
+                    transformShape(moved, step);
+                } catch (const std::invalid_argument& e) {
+                    throw py::value_error(std::string("Object.transform: ") + e.what());
+                }
+                o.shape = std::move(moved);
+                o.material.checkerOrigin = glm::dvec3(step * glm::dvec4(o.material.checkerOrigin, 1.0));
+                v.s->transforms[v.id] = to;
+                ++v.s->versions.geometry;
+            },
+            "a 4x4 affine matrix placing the object relative to how it was added or loaded (identity until set); "
+            "setting it moves the shape (scene/shape_edit.h transformShape)")
+        .def_property(
             "radius",
             [](const ObjectView& v) -> py::object {
                 if (const auto* s = std::get_if<Sphere>(&v.o().shape)) return py::float_(s->radius);
@@ -645,6 +794,22 @@ void addSceneApi(py::module_& m) {
         return made.cast<MaterialValue>();
     }));
     materialFields(material);
+    for (size_t k = 0; k < std::size(kTextureSlots); ++k) {
+        const TextureSlot slot = kTextureSlots[k];
+        material.def_property(
+            slot.name,
+            [k](const MaterialValue& v) -> py::object {
+                const TextureRef& t = *v.m.textures()[k];
+                if (!t) return py::none();
+                if (!t.written.empty()) return py::str(t.written);
+                const TextureLevel& level = t.data->levels[0];
+                return py::str("<array " + std::to_string(level.height) + "x" + std::to_string(level.width) + ">");
+            },
+            [k, slot](MaterialValue& v, py::object x) {
+                *v.m.textures()[k] = textureValue(x, slot.encoding, std::string("Material.") + slot.name);
+            },
+            (std::string(slot.name) + ": None, a file path, or an (H, W, 3|4) array (uint8 sRGB, float linear)").c_str());
+    }
     material
         .def_property(
             "checker_size", [](const MaterialValue& v) { return v.m.checkerSize; },
@@ -654,12 +819,44 @@ void addSceneApi(py::module_& m) {
             },
             "solid checker cell size (> 0), 0: no checker (anchored at the object it is given to)")
         .def_property_readonly("textured", [](const MaterialValue& v) { return v.m.textured(); },
-                               "whether it has textures (only a loaded object's material has)")
+                               "whether it has textures")
         .def("__repr__", [](const MaterialValue& v) {
             return "Material(diffuse_color=" + py::repr(toTuple(v.m.diffuseColor)).cast<std::string>() +
                    ", diffuse=" + shown(v.m.diffuse) + ", specular=" + shown(v.m.specular) +
                    ", reflection=" + shown(v.m.reflection) + ", transmission=" + shown(v.m.transmission) + ")";
         });
+
+    py::class_<MeshArrays>(m, "Mesh", "a triangle mesh's arrays for Scene.add_mesh: vertices (N, 3), faces (M, 3), "
+                                      "normals (N, 3) or None, uvs (N, 2) or None")
+        .def(py::init([](py::object vertices, py::object faces, py::object normals, py::object uvs) {
+                 return MeshArrays{vertices, faces, normals, uvs};
+             }),
+             py::arg("vertices"), py::arg("faces"), py::arg("normals") = py::none(), py::arg("uvs") = py::none())
+        .def_static(
+            "from_trimesh",
+            [](py::object mesh, bool normals) {
+                // trimesh.Trimesh's attributes (read, not imported: any object that has them will do).
+                for (const char* attribute : {"vertices", "faces"})
+                    if (!py::hasattr(mesh, attribute))
+                        throw py::type_error(std::string("Mesh.from_trimesh: expected a trimesh.Trimesh (with .vertices and .faces), got ") +
+                                             py::repr(mesh).cast<std::string>());
+                py::module_ np = py::module_::import("numpy");
+                MeshArrays arrays{np.attr("asarray")(mesh.attr("vertices")), np.attr("asarray")(mesh.attr("faces")),
+                                  py::none(), py::none()};
+                // The vertex normals trimesh has (the file's, else its own from the faces).
+                if (normals) arrays.normals = np.attr("asarray")(mesh.attr("vertex_normals"));
+                // Texture coordinates where its visual has them (trimesh.visual.TextureVisuals.uv).
+                py::object visual = py::getattr(mesh, "visual", py::none());
+                py::object uv = visual.is_none() ? py::none() : py::getattr(visual, "uv", py::none());
+                if (!uv.is_none()) arrays.uvs = np.attr("asarray")(uv);
+                return arrays;
+            },
+            py::arg("mesh"), py::arg("normals") = true,
+            "the arrays of a trimesh.Trimesh: vertices, faces, vertex_normals (normals=True) and visual.uv where it has them")
+        .def_readwrite("vertices", &MeshArrays::vertices)
+        .def_readwrite("faces", &MeshArrays::faces)
+        .def_readwrite("normals", &MeshArrays::normals)
+        .def_readwrite("uvs", &MeshArrays::uvs);
 
     py::class_<SceneHandle, SceneRef>(m, "Scene", "A scene: load() or loads() it, or build it (Scene()), edit it, render it")
         .def(py::init([] {
@@ -727,12 +924,33 @@ void addSceneApi(py::module_& m) {
             "add_mesh",
             [](const SceneRef& s, py::object vertices, py::object faces, py::object normals, py::object uvs,
                py::object material, py::object name, py::object transform) {
+                if (py::isinstance<MeshArrays>(vertices)) {  // add_mesh(whitted.Mesh, ...): its arrays
+                    if (!faces.is_none() || !normals.is_none() || !uvs.is_none())
+                        throw py::type_error("add_mesh: a whitted.Mesh brings its own faces, normals and uvs");
+                    const MeshArrays& arrays = vertices.cast<const MeshArrays&>();
+                    vertices = arrays.vertices, faces = arrays.faces, normals = arrays.normals, uvs = arrays.uvs;
+                }
                 return addObject(s, buildMesh(vertices, faces, normals, uvs, transform), material, name, "add_mesh");
             },
-            py::arg("vertices"), py::arg("faces"), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
+            py::arg("vertices"), py::arg("faces") = py::none(), py::arg("normals") = py::none(), py::arg("uvs") = py::none(),
             py::arg("material") = py::none(), py::arg("name") = py::none(), py::arg("transform") = py::none(),
             "a triangle mesh from numpy arrays: vertices (N, 3), faces (M, 3) integers, normals (N, 3), uvs (N, 2), "
             "transform 4x4 (applied to vertices and normals); degenerate faces are skipped with a warning")
+        .def(
+            "add_file",
+            [](const SceneRef& s, const std::filesystem::path& path, py::object part, py::object transform) {
+                py::list handles;
+                for (Object& o : fileObjects(path, part, transform)) {
+                    s->scene->objects.push_back(std::move(o));
+                    s->objectIds.push_back(s->nextObjectId++);
+                    handles.append(ObjectView{s, s->objectIds.back()});
+                }
+                ++s->versions.geometry;
+                return handles;
+            },
+            py::arg("path"), py::arg("part") = py::none(), py::arg("transform") = py::none(),
+            "a model file's objects as the scene format's <file> gives them (part: <file part>, transform: a 4x4 "
+            "affine <matrix>); a list of handles, one per material of the file")
         .def(
             "add_light",
             [](const SceneRef& s, py::object position, py::object color, const std::string& type, double intensity,
@@ -771,7 +989,10 @@ void addSceneApi(py::module_& m) {
             },
             py::arg("handle"), "removes an object or light; its handle then raises KeyError")
         .def(py::pickle(
-            [](const SceneRef& s) { return py::make_tuple(sceneXml(*s->scene), s->scene->sourcePath); },
+            [](const SceneRef& s) {
+                refuseFilelessTextures(*s->scene, "pickle");
+                return py::make_tuple(sceneXml(*s->scene), s->scene->sourcePath);
+            },
             [](const py::tuple& state) {
                 if (py::len(state) != 2) throw py::value_error("Scene.__setstate__: expected (xml, path)");
                 auto path = state[1].cast<std::filesystem::path>();
@@ -801,10 +1022,24 @@ void addSceneApi(py::module_& m) {
         .def_property_readonly("path", [](const SceneRef& s) { return s->scene->sourcePath; })
         .def_property_readonly("warnings", [](const SceneRef& s) { return s->scene->warnings; })
         .def(
-            "save", [](const SceneRef& s, const std::filesystem::path& path) { writeSceneFile(*s->scene, path); },
-            py::arg("path"), "writes the scene file (the scene writer: what the window's Save writes)")
+            "save",
+            [](const SceneRef& s, const std::filesystem::path& path) {
+                // Textures made from arrays: written beside the file, named in it
+                // (on a copy: the scene's own stay without a file).
+                Scene copy = *s->scene;
+                writeFilelessTextures(copy, path);
+                writeSceneFile(copy, path);
+            },
+            py::arg("path"),
+            "writes the scene file (the scene writer: what the window's Save writes), and textures made from arrays "
+            "beside it")
         .def(
-            "to_xml", [](const SceneRef& s) { return sceneXml(*s->scene); }, "the scene file's text")
+            "to_xml",
+            [](const SceneRef& s) {
+                refuseFilelessTextures(*s->scene, "Scene.to_xml");
+                return sceneXml(*s->scene);
+            },
+            "the scene file's text")
         .def(
             "copy", [](const SceneRef& s) { return std::make_shared<SceneHandle>(*s->scene); },
             "an independent copy (textures are shared, read-only)")

@@ -251,8 +251,13 @@ void Renderer::uploadScene() {
     // Textures and the per-primitive surface attributes (UVs of textured
     // meshes; address 0 when no mesh needs them).
     attributes_ = {};
-    textures_ = {};
-    textures_ = TextureSet(ctx_, scene_.textures);
+    texturesUploaded_ = !texturesMade_ || scene_.textures != uploadedTextures_;
+    if (texturesUploaded_) {
+        textures_ = {};
+        textures_ = TextureSet(ctx_, scene_.textures);
+        uploadedTextures_ = scene_.textures;
+        texturesMade_ = true;
+    }
     deviceBytes_ += textures_.bytes();
     if (!scene_.attributes.empty()) {
         attributes_ = upload(scene_.attributes, "surface attributes");

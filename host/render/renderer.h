@@ -47,6 +47,10 @@ public:
     // Re-pack and re-upload the scene; the pipeline is rebuilt when the new
     // scene needs shapes or transparency the old one compiled out.
     void setScene(const Scene& scene);
+    // Whether the last upload (the first, or setScene's) sent the textures:
+    // setScene keeps those on the device when the new scene uses the same
+    // ones (the same TextureData, in the same slots), as after an object moved.
+    bool texturesUploaded() const { return texturesUploaded_; }
     void setCamera(const Camera& camera);  // rewrites the camera in the uniform block only
     // Re-uploads the materials only (no BVH, no primitives) when `scene`
     // has the shapes of the uploaded one; false when a new texture or a
@@ -98,6 +102,10 @@ private:
     Buffer csgNodes_;  // the csg objects' programs (FrameParams.csgNodeAddress)
     Buffer attributes_;     // gpu::SurfaceAttributes per primitive, when a textured mesh needs them
     TextureSet textures_;   // the kBindingTextures array
+    // What textures_ holds (kept alive, so a pointer compares as the texture),
+    // whether it was made at all, and whether the last upload made it.
+    std::vector<std::shared_ptr<const TextureData>> uploadedTextures_;
+    bool texturesMade_ = false, texturesUploaded_ = false;
     // Adaptive anti-aliasing: pixel list, first-pass guide, sample
     // statistics (host-visible: the host reads and writes them between
     // passes); and the band's read-back staging buffer.

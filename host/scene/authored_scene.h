@@ -2,7 +2,7 @@
 // scenes"): a glTF 2.0 file's node tree, cameras, KHR_lights_punctual
 // lights and materials, and an OBJ file's own MTL materials, mapped into
 // the scene model by the formulas documented there. What is not authored
-// (a camera, lights and a floor) is app/quick_look's to add.
+// (a camera, lights and a floor) is scene/quick_look's to add.
 #pragma once
 
 #include "scene/scene.h"

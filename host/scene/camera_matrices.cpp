@@ -1,5 +1,7 @@
 #include "scene/camera_matrices.h"
 
+#include "scene/xml_reader.h"
+
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -28,6 +30,8 @@ Camera cameraFromMatrices(const Camera& base, const glm::dmat3& K, const glm::dm
             if (!std::isfinite(K[c][r])) refuse("K", "every value must be finite, got " + shown(K[c][r]) + " at [" + std::to_string(r) + "][" + std::to_string(c) + "]");
     double fx = K[0][0], fy = K[1][1], cx = K[2][0], cy = K[2][1];
     if (fx <= 0) refuse("K", "fx (K[0][0]) must be > 0, got " + shown(fx));
+    for (double v : {fx, fy, cx, cy})
+        if (std::abs(v) > xml::kMaxMagnitude) refuse("K", "fx, fy, cx and cy must be within ±1e6 (the scene format's limit), got " + shown(v));
     if (fy <= 0) refuse("K", "fy (K[1][1]) must be > 0, got " + shown(fy));
     if (K[1][0] != 0) refuse("K", "skew (K[0][1]) must be 0 (the shader's pixels are rectangular), got " + shown(K[1][0]));
     if (K[0][1] != 0) refuse("K", "K[1][0] must be 0, got " + shown(K[0][1]));
@@ -62,8 +66,12 @@ Camera cameraFromMatrices(const Camera& base, const glm::dmat3& K, const glm::dm
     c.height = height;
     c.intrinsics = Camera::Intrinsics{.fx = fx, .fy = fy, .cx = cx, .cy = cy};
     // What fov reads: the vertical field of view these intrinsics give at the centre.
-    c.verticalFovDegrees = glm::degrees(2.0 * std::atan(height / (2.0 * fy)));
+    c.verticalFovDegrees = intrinsicsVerticalFov(*c.intrinsics, height);
     return c;
+}
+
+double intrinsicsVerticalFov(const Camera::Intrinsics& k, int height) {
+    return glm::degrees(2.0 * std::atan(height / (2.0 * k.fy)));
 }
 
 glm::dmat3 cameraIntrinsicMatrix(const Camera& camera) {

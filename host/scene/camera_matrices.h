@@ -23,11 +23,18 @@ enum class CameraConvention { OpenCV, OpenGL };
 // `base` kept (projection becomes perspective). Throws
 // std::invalid_argument naming the field ("K: ...", "cam_to_world: ...",
 // "width: ...") for a K with fx or fy <= 0, skew or a last row other than
-// (0, 0, 1), a value not finite, a pose that is not a rotation and a
+// (0, 0, 1), a value not finite or beyond the scene format's ±1e6
+// (xml_reader.h kMaxMagnitude, so that the scene writer's <intrinsics> loads
+// back), a pose that is not a rotation and a
 // translation (orthonormal to 1e-6, determinant +1, last row (0, 0, 0, 1)).
 // glm matrices are column-major: K[col][row].
 Camera cameraFromMatrices(const Camera& base, const glm::dmat3& K, const glm::dmat4& camToWorld, int width, int height,
                           CameraConvention convention);
+
+// The vertical field of view (degrees) that intrinsics give at the image's
+// centre for an image `height` pixels high: what Camera::verticalFovDegrees
+// reads while they are set (set_from_matrices, the loader's <intrinsics>).
+double intrinsicsVerticalFov(const Camera::Intrinsics& k, int height);
 
 // K of a perspective camera: its intrinsics, or those its vertical field of
 // view gives (square pixels, centred). Throws std::invalid_argument for an

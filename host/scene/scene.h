@@ -45,8 +45,8 @@ struct Camera {
     // scene/camera_matrices.h): pixels of the width x height image, OpenCV's
     // (origin at the top-left pixel's centre, x right, y down). While set, a
     // perspective camera's window comes from these, not verticalFovDegrees;
-    // eye/windowCenter/up still give the pose. Not in the XML format (the
-    // scene writer refuses such a camera).
+    // eye/windowCenter/up still give the pose. In the XML format as
+    // <intrinsics fx fy cx cy/> (scenes/README.md "Scene files").
     struct Intrinsics {
         double fx = 0, fy = 0, cx = 0, cy = 0;
         bool operator==(const Intrinsics&) const = default;

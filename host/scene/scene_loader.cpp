@@ -1,6 +1,7 @@
 #include "scene/scene_loader.h"
 
 #include "io/texture_file.h"
+#include "scene/camera_matrices.h"
 #include "scene/mesh_objects.h"
 #include "scene/xml_reader.h"
 
@@ -119,7 +120,8 @@ private:
 
     Camera readCamera(const XMLElement* e) const {
         ElementReader c(diag_, e,
-                        {{"position"}, {"window_position"}, {"up"}, {"fov"}, {"window_height"}, {"width"}, {"height"}, {"projection"}});
+                        {{"position"}, {"window_position"}, {"up"}, {"fov"}, {"window_height"}, {"width"}, {"height"}, {"projection"},
+                         {"intrinsics"}});
         Camera camera;
         camera.eye = vector(diag_, c.required("position"));
         camera.windowCenter = vector(diag_, c.required("window_position"));
@@ -172,6 +174,19 @@ private:
         constexpr int maxSide = int(gpu::kMaxImageSide);
         if (const XMLElement* width = c.optional("width")) camera.width = integer(diag_, width, 1, maxSide);
         if (const XMLElement* height = c.optional("height")) camera.height = integer(diag_, height, 1, maxSide);
+        // A pinhole K in pixels of width x height (scene/scene.h
+        // Camera::intrinsics; Python's Camera.set_from_matrices).
+        if (const XMLElement* k = c.optional("intrinsics")) {
+            if (camera.projection == Camera::Projection::Orthographic)
+                diag_.fail(k, "an orthographic <camera> has no <intrinsics>");
+            if (fov || windowHeight)
+                diag_.fail(laterOf(k, fov ? fov : windowHeight),
+                           "<camera> has both <intrinsics> and " + std::string(fov ? "<fov>" : "<window_height>") +
+                               "; give one");
+            auto v = components(diag_, k, {{"fx", kPositive}, {"fy", kPositive}, {"cx", kAnyValue}, {"cy", kAnyValue}});
+            camera.intrinsics = Camera::Intrinsics{.fx = v[0], .fy = v[1], .cx = v[2], .cy = v[3]};
+            camera.verticalFovDegrees = intrinsicsVerticalFov(*camera.intrinsics, camera.height);
+        }
         return camera;
     }
 

@@ -1,5 +1,6 @@
 #include "scene/scene_writer.h"
 
+#include <cctype>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
@@ -7,27 +8,43 @@
 #include <variant>
 
 #include "io/atomic_file.h"
+#include "io/image_io.h"
+#include "io/texture.h"
+
+#include <glm/gtc/packing.hpp>
+
+#include <functional>
+#include <map>
+#include <set>
 
 namespace whitted {
-namespace {
 
-std::string number(double v) {
+std::string xmlNumber(double v) {
     char text[32];
     std::snprintf(text, sizeof text, "%.17g", v);
     return text;
 }
+
+std::string escapedXml(const std::string& text) {
+    std::string escaped;
+    for (char c : text)
+        escaped += c == '&' ? "&amp;" : c == '<' ? "&lt;" : c == '>' ? "&gt;" : c == '"' ? "&quot;" : std::string(1, c);
+    return escaped;
+}
+
+namespace {
 
 class XmlOut {
 public:
     void open(const std::string& tag) { line("<" + tag + ">"), ++depth_; }
     void close(const std::string& tag) { --depth_, line("</" + tag + ">"); }
     void value(const std::string& tag, const std::string& v) { line("<" + tag + ">" + v + "</" + tag + ">"); }
-    void value(const std::string& tag, double v) { value(tag, number(v)); }
+    void value(const std::string& tag, double v) { value(tag, xmlNumber(v)); }
     void vector(const std::string& tag, const glm::dvec3& v) {
-        line("<" + tag + " x=\"" + number(v.x) + "\" y=\"" + number(v.y) + "\" z=\"" + number(v.z) + "\"/>");
+        line("<" + tag + " x=\"" + xmlNumber(v.x) + "\" y=\"" + xmlNumber(v.y) + "\" z=\"" + xmlNumber(v.z) + "\"/>");
     }
     void colour(const std::string& tag, const glm::dvec3& c) {
-        line("<" + tag + " r=\"" + number(c.r) + "\" g=\"" + number(c.g) + "\" b=\"" + number(c.b) + "\"/>");
+        line("<" + tag + " r=\"" + xmlNumber(c.r) + "\" g=\"" + xmlNumber(c.g) + "\" b=\"" + xmlNumber(c.b) + "\"/>");
     }
     void line(const std::string& text) { out_ << std::string(size_t(2 * depth_), ' ') << text << "\n"; }
     void setDepth(int d) { depth_ = d; }
@@ -39,24 +56,23 @@ private:
 };
 
 void writeCamera(XmlOut& x, const Camera& c) {
-    // The XML camera has a vertical field of view only: square pixels, a
-    // centred principal point (scene/scene.h Camera::intrinsics).
-    if (c.intrinsics && c.projection == Camera::Projection::Perspective)
-        throw std::invalid_argument(
-            "camera: set from an intrinsic matrix (fx, fy, cx, cy), which the scene format cannot hold "
-            "(its camera has a vertical fov, square pixels and a centred principal point)");
     x.open("camera");
     x.vector("position", c.eye);
     x.vector("window_position", c.windowCenter);
     x.vector("up", c.up);
+    bool k = c.intrinsics && c.projection == Camera::Projection::Perspective;
     if (c.projection == Camera::Projection::Orthographic) {
         x.value("projection", std::string("orthographic"));
         x.value("window_height", c.windowHeight);
-    } else {
+    } else if (!k) {
         x.value("fov", c.verticalFovDegrees);
     }
     x.value("width", std::to_string(c.width));
     x.value("height", std::to_string(c.height));
+    // K instead of the fov (scene/scene.h Camera::intrinsics).
+    if (k)
+        x.line("<intrinsics fx=\"" + xmlNumber(c.intrinsics->fx) + "\" fy=\"" + xmlNumber(c.intrinsics->fy) + "\" cx=\"" +
+               xmlNumber(c.intrinsics->cx) + "\" cy=\"" + xmlNumber(c.intrinsics->cy) + "\"/>");
     x.close("camera");
 }
 
@@ -236,7 +252,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                     std::string rows;
                     for (int row = 0; row < 3; ++row)
                         for (int col = 0; col < 4; ++col)
-                            rows += (rows.empty() ? "" : col == 0 ? "  " : " ") + number((*source->matrix)[col][row]);
+                            rows += (rows.empty() ? "" : col == 0 ? "  " : " ") + xmlNumber((*source->matrix)[col][row]);
                     x.value("matrix", rows);
                 }
                 if (source->scale != glm::dvec3(1)) x.vector("scale", source->scale);
@@ -248,7 +264,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                     writeTriangleVertices(x, s.triangles[i], vertexOrigin);
                     if (!s.uvs.empty())
                         for (const glm::dvec2& uv : s.uvs[i])
-                            x.line("<uv u=\"" + number(uv.x) + "\" v=\"" + number(uv.y) + "\"/>");
+                            x.line("<uv u=\"" + xmlNumber(uv.x) + "\" v=\"" + xmlNumber(uv.y) + "\"/>");
                     if (!s.normals.empty())
                         for (const glm::dvec3& n : s.normals[i]) x.vector("normal", n);
                     x.close("polygon");
@@ -295,6 +311,56 @@ std::string sceneXml(const Scene& scene, const std::filesystem::path& destinatio
     x.close("objects");
     x.close("scene");
     return x.str();
+}
+
+void writeFilelessTextures(Scene& scene, const std::filesystem::path& output) {
+    std::map<const TextureData*, std::string> written;  // one file per texture, however many use it
+    std::set<std::string> names;
+    auto extract = [&](TextureRef& ref, const std::string& label, const char* slot) {
+        if (!ref || !ref.written.empty() || ref.data->levels.empty()) return;
+        if (auto it = written.find(ref.data.get()); it != written.end()) {
+            ref.written = it->second;
+            return;
+        }
+        const TextureData& data = *ref.data;
+        std::string stem = output.stem().string() + "." + label + "." + slot;
+        for (int k = 2; names.contains(stem); ++k) stem = output.stem().string() + "." + label + "-" + std::to_string(k) + "." + slot;
+        names.insert(stem);
+        std::filesystem::path file;
+        if (!data.encoded.empty()) {
+            file = stem + "." + data.encodedFormat;
+            std::string bytes(data.encoded.begin(), data.encoded.end());
+            writeTextFile(output.parent_path() / file, bytes);  // atomic; the bytes as they are
+        } else {
+            const TextureLevel& level = data.levels[0];
+            std::vector<float> texels(level.rgba.size());
+            for (size_t i = 0; i < texels.size(); ++i) texels[i] = glm::unpackHalf1x16(level.rgba[i]);
+            file = stem + ".exr";
+            writeImage(output.parent_path() / file, level.width, level.height, 4, texels, PixelEncoding::Float);
+        }
+        // Absolute: the writer makes texture paths relative to the file it writes.
+        ref.written = written[ref.data.get()] = std::filesystem::absolute(output.parent_path() / file).string();
+    };
+    auto material = [&](Material& m, const std::string& label) {
+        static constexpr const char* kSlots[] = {"diffuse_texture", "normal_map", "emission_texture"};  // textures()' order
+        for (size_t k = 0; k < m.textures().size(); ++k) extract(*m.textures()[k], label, kSlots[k]);
+    };
+    std::function<void(Csg&, const std::string&)> children = [&](Csg& csg, const std::string& label) {
+        for (size_t k = 0; k < csg.children.size(); ++k) {
+            CsgChild& child = csg.children[k];
+            std::string childLabel = label + ".child" + std::to_string(k);
+            material(child.material, childLabel);
+            if (Csg* inner = std::get_if<Csg>(&child.shape)) children(*inner, childLabel);
+        }
+    };
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        Object& object = scene.objects[i];
+        std::string label = object.name.empty() ? "object" + std::to_string(i) : object.name;
+        for (char& c : label)
+            if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
+        material(object.material, label);
+        if (Csg* csg = std::get_if<Csg>(&object.shape)) children(*csg, label);
+    }
 }
 
 void writeSceneFile(const Scene& scene, const std::filesystem::path& path) {

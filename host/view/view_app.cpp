@@ -353,7 +353,8 @@ void ViewApp::checkReload() {
         Scene fresh = loadSceneFromString(*text, options_.scene);
         bool cameraChanged =
             fresh.camera.eye != scene_.camera.eye || fresh.camera.windowCenter != scene_.camera.windowCenter ||
-            fresh.camera.up != scene_.camera.up || fresh.camera.verticalFovDegrees != scene_.camera.verticalFovDegrees;
+            fresh.camera.up != scene_.camera.up || fresh.camera.verticalFovDegrees != scene_.camera.verticalFovDegrees ||
+            fresh.camera.intrinsics != scene_.camera.intrinsics;
         scene_ = std::move(fresh);
         watchTextures();
         if (cameraChanged) camera_.setHome(scene_.camera, sceneRadius(scene_));

@@ -3,10 +3,16 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <cstdlib>
 #include <iterator>
 #include <stdexcept>
 
 namespace whitted {
+
+bool validationFromEnvironment() {
+    const char* v = std::getenv("WHITTED_VALIDATION");
+    return v && *v && std::string(v) != "0";
+}
 namespace {
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";

@@ -18,6 +18,10 @@
 namespace whitted {
 
 
+// WHITTED_VALIDATION=1 (anything but empty or 0) turns the validation layer
+// on, as `whitted render --validate` does (the commands and the Python module).
+bool validationFromEnvironment();
+
 struct ContextOptions {
     bool validation = false;        // enable VK_LAYER_KHRONOS_validation
     std::string deviceName;         // substring or index; empty = best

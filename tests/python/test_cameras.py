@@ -140,16 +140,32 @@ def test_matrices_read_back_and_conventions_agree():
     assert not k_scene.camera.has_intrinsics
 
 
-def test_scene_with_matrix_camera_refuses_to_save(tmp_path):
+def test_scene_with_matrix_camera_saves_intrinsics_and_cli_renders_it_bit_for_bit(tmp_path):
+    from conftest import run_cli
+    from test_module import read_exr
     scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
-    scene.camera.set_from_matrices(np.array([[70.0, 0, 29.3], [0, 55.0, 26.1], [0, 0, 1]]), np.eye(4), W, H)
-    with pytest.raises(ValueError, match="intrinsic matrix"):
-        scene.save(tmp_path / "x.xml")
-    assert not (tmp_path / "x.xml").exists()
-    with pytest.raises(ValueError, match="intrinsic matrix"):
-        scene.to_xml()
-    scene.camera.clear_intrinsics()  # the fov again: the format holds it
-    assert whitted.loads(scene.to_xml()).camera.width == W
+    K = np.array([[70.0, 0, 29.3], [0, 55.0, 26.1], [0, 0, 1]])  # fx != fy, principal point off the centre
+    scene.camera.set_from_matrices(K, scene.camera.cam_to_world(), W, H)
+    path = tmp_path / "k.xml"
+    scene.save(path)
+    assert '<intrinsics fx="70" fy="55" cx="29.300000000000001" cy="26.100000000000001"/>' in path.read_text()
+    assert "<fov>" not in path.read_text()
+    back = whitted.load(path)
+    assert back.camera.has_intrinsics and back.camera.fov == scene.camera.fov
+    np.testing.assert_array_equal(back.camera.intrinsics(), K)
+    assert back.to_xml() == scene.to_xml()
+    status, err = run_cli("render", path, "-o", tmp_path / "k.exr", "--aov", "depth", "-q")
+    assert status == 0, err
+    result = whitted.render(scene, aovs=("depth",))
+    assert result.image.max() > 0.05
+    assert np.array_equal(result.image, read_exr(tmp_path / "k.exr"))
+    assert np.array_equal(result.aovs["depth"], read_exr(tmp_path / "k.depth.exr"))
+    # The same pose with the fov's centred K renders another image: K is what was used.
+    scene.camera.clear_intrinsics()
+    assert not np.array_equal(whitted.render(scene).image, result.image)
+    # A K the format cannot hold is refused when set.
+    with pytest.raises(ValueError, match="within ±1e6"):
+        scene.camera.set_from_matrices(np.array([[70.0, 0, 2e6], [0, 55.0, 26.1], [0, 0, 1]]), np.eye(4), W, H)
 
 
 def test_batch_equals_single_renders_and_uploads_geometry_once():
@@ -175,7 +191,7 @@ def test_batch_equals_single_renders_and_uploads_geometry_once():
     assert uploads[0]["geometry"] and uploads[0]["bvh"] and uploads[0]["camera"]
     for u in uploads[1:]:
         assert u == {"renderer": False, "geometry": False, "bvh": False, "materials": False, "lights": False,
-                     "camera": True}
+                     "camera": True, "textures": False}
     single_renderer = whitted.Renderer()
     for pose, result in zip(matrices, results):
         scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")

@@ -1,4 +1,4 @@
-#include "app/quick_look.h"
+#include "scene/quick_look.h"
 
 #include "scene/authored_scene.h"
 #include "scene/scene_loader.h"
