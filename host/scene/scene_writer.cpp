@@ -139,7 +139,7 @@ void writeLight(XmlOut& x, const Light& l) {
     if (l.intensity != 1.0) x.value("intensity", l.intensity);
     if (l.falloff == Light::Falloff::InverseSquare && l.type != Light::Type::Directional)
         x.value("falloff", "inverse_square");
-    if (l.type != Light::Type::Point) x.vector("direction", l.direction);
+    if (l.type == Light::Type::Spot || l.type == Light::Type::Directional) x.vector("direction", l.direction);
     if (l.type == Light::Type::Spot) {
         x.value("inner_angle", l.innerAngleDegrees);
         x.value("outer_angle", l.outerAngleDegrees);
