@@ -3,6 +3,7 @@
 // of its disc of directions behind a spherical occluder; small area lights
 // against point lights; a rect light's faces; radius 0 changing no pixel of
 // any shipped scene; the writer's round trip.
+#include "render/ray_tree.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
 #include "test_support.h"
@@ -128,6 +129,43 @@ TEST(AreaLight, SphereLightPenumbraMatchesVisibleFraction) {
     EXPECT_GE(penumbra, 20) << "the row crosses the penumbra";
     EXPECT_GE(umbra, 2) << "and the umbra";
     std::cout << "[          ] penumbra pixels " << penumbra << ", worst |rendered - closed form| " << worst << "\n";
+}
+
+// The ray tree records each sampled shadow ray: at a penumbra pixel the
+// camera ray has its light's 8 shadow rays, to different points, some
+// blocked by the ball and some lit; their shares add up to the ray's diffuse
+// term, and the tree's colour is the pixel of a one-sample render.
+TEST(AreaLight, RayTreeRecordsEachShadowSample) {
+    const std::string xml = penumbraXml(true, "<radius>0.5</radius><shadow_samples>8</shadow_samples>");
+    RenderSettings s{.width = kWidth, .height = kHeight, .samplesPerPixel = 1, .maxDepth = 0, .auxiliary = false,
+                     .antiAliasing = AntiAliasing::Uniform, .bandBytes = 0};
+    const int x = 42, y = kHeight / 2;
+    const double fraction = visibleFraction(floorPoint(x + 0.5, y + 0.5), kLight, kLightRadius, kBall, kBallRadius);
+    ASSERT_GT(fraction, 0.2);
+    ASSERT_LT(fraction, 0.8);
+    Scene scene = loadSceneFromString(xml, "penumbra.xml");
+    Renderer renderer(testContext(), scene, s);
+    RayTree tree = RayTreeRecorder(testContext()).trace(renderer, x, y);
+    ASSERT_EQ(tree.rays.size(), 1u);
+    ASSERT_EQ(tree.rays[0].shadowRayCount, 8u);
+    int blocked = 0, lit = 0;
+    glm::vec3 diffuse(0.0f);
+    for (uint32_t i = 0; i < 8; ++i) {
+        const gpu::RayTreeShadowRay& r = tree.shadowRays[tree.rays[0].firstShadowRay + i];
+        blocked += r.outcome == gpu::kShadowBlocked;
+        lit += r.outcome == gpu::kShadowLit;
+        diffuse += r.diffuse;
+        if (i > 0) {
+            EXPECT_NE(r.direction, tree.shadowRays[tree.rays[0].firstShadowRay].direction) << i;
+        }
+    }
+    EXPECT_GT(blocked, 0);
+    EXPECT_GT(lit, 0);
+    EXPECT_LT(glm::length(diffuse - tree.rays[0].diffuse), 1e-5f);
+    RenderSettings whole = s;
+    whole.bandBytes = RenderSettings{}.bandBytes;
+    RenderResult image = renderScene(scene, whole);
+    EXPECT_LT(glm::length(tree.color() - glm::vec3(pixel(image, gpu::kAovColor, x, y))), 1e-5f);
 }
 
 // A white Lambert wall z = -5 lit from (0.6, -0.4, -3), seen from the origin.
