@@ -131,19 +131,22 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir, uint 
             }
         }
         if (attenuation <= 0.0) continue;
-        if (type != kLightRect && !(lights[i].radius > 0.0)) {  // a point: no sample drawn
-            addLightSample(s, i, m, p, n, ng, viewDir, l, dist, lights[i].color * attenuation);
-            continue;
-        }
+        // A point or directional light keeps l and dist and draws no sample.
+        // One call of addLightSample for both (its shadow walk is inlined
+        // once).
+        bool area = type == kLightRect || lights[i].radius > 0.0;
         if (type == kLightRect && lights[i].twoSided == 0u && dot(l, cross(lights[i].u, lights[i].v)) >= 0.0)
             continue;  // behind a one-sided rectangle
-        uint count = lights[i].shadowSamples;
-        vec3 radiance = lights[i].color * (attenuation / float(count));
+        uint count = area ? lights[i].shadowSamples : 1u;
+        vec3 radiance = lights[i].color * (area ? attenuation / float(count) : attenuation);
         for (uint k = 0u; k < count; ++k) {
-            vec2 u = sampleDimension(sampleIndex * count + k, patternSize * count, pixelSeed, kDimLightBase + i);
-            vec3 toPoint = sampleLightPoint(lights[i], p, u) - p;
-            float pointDist = length(toPoint);
-            addLightSample(s, i, m, p, n, ng, viewDir, toPoint / pointDist, pointDist, radiance);
+            if (area) {
+                vec2 u = sampleDimension(sampleIndex * count + k, patternSize * count, pixelSeed, kDimLightBase + i);
+                vec3 toPoint = sampleLightPoint(lights[i], p, u) - p;
+                dist = length(toPoint);
+                l = toPoint / dist;
+            }
+            addLightSample(s, i, m, p, n, ng, viewDir, l, dist, radiance);
         }
     }
     return s;
