@@ -253,24 +253,32 @@ struct SurfaceAttributes {
 WHITTED_CONST uint kLightPoint = 0u;
 WHITTED_CONST uint kLightSpot = 1u;
 WHITTED_CONST uint kLightDirectional = 2u;  // no position: its shadow rays go to infinity
+WHITTED_CONST uint kLightRect = 3u;         // a rectangle: position +- u/2 +- v/2
 WHITTED_CONST uint kFalloffNone = 0u;
 WHITTED_CONST uint kFalloffInverseSquare = 1u;
 
 // A light: what arrives at distance d is color (the scene's colour times
 // its intensity), divided by d^2 with kFalloffInverseSquare; a spot scales
 // it by saturate((cos theta - cosOuter) / (cosInner - cosOuter))^2, theta
-// the angle from its direction (KHR_lights_punctual).
+// the angle from its direction (KHR_lights_punctual). An area light (a
+// point or spot with radius > 0: a sphere; kLightRect) is shadowSamples
+// point lights of that colour at points sampled on it, averaged
+// (shaders/shading.glsl, sampleLightPoint).
 struct Light {
-    vec3 position WHITTED_ZERO;   // point and spot
+    vec3 position WHITTED_ZERO;   // point, spot and rect (its centre)
     uint type WHITTED_ZERO;       // kLight*
     vec3 color WHITTED_ZERO;      // colour times intensity
     uint falloff WHITTED_ZERO;    // kFalloff*
     vec3 direction WHITTED_ZERO;  // spot and directional: unit, the way the light travels
     float cosInner WHITTED_ZERO;  // spot: cosines of the inner and outer cone angles
     float cosOuter WHITTED_ZERO;
+    float radius WHITTED_ZERO;         // point and spot: the sphere's radius, 0 for a point
+    uint shadowSamples WHITTED_ZERO;   // shadow rays per camera sample, >= 1
+    uint twoSided WHITTED_ZERO;        // rect: 1 when it shines from both faces
+    vec3 u WHITTED_ZERO;               // rect: the full edge vectors; it faces u x v
     float pad0 WHITTED_ZERO;
+    vec3 v WHITTED_ZERO;
     float pad1 WHITTED_ZERO;
-    float pad2 WHITTED_ZERO;
 };
 
 // A node of the compressed 8-wide BVH the shader walks (host/accel/bvh.h,

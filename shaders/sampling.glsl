@@ -38,19 +38,33 @@ vec2 cmjSample(uint s, uint n, uint p) {
     return vec2((float(sx) + (float(sy) + jx) / float(rows)) / float(m), (float(s) + jy) / float(n));
 }
 
-// Pixel-space offset of sample s; a single sample goes through the centre so
-// that spp 1 matches a classic one-ray-per-pixel render.
-vec2 pixelSampleOffset(uint s, uint n, uint pixelSeed) {
-    if (n == 1u) return vec2(0.5);
-    return cmjSample(s, n, pixelSeed);
-}
-
 // Integer hash (Wang / Jarzynski & Olano, "Hash Functions for GPU Rendering",
 // JCGT 2020: pcg) to turn a pixel index into a pattern seed.
 uint hashPcg(uint v) {
     uint state = v * 747796405u + 2891336453u;
     uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
     return (word >> 22u) ^ word;
+}
+
+// Dimension `dimension` (>= 1) of sample s of n: an independent correlated multi-jittered pattern per dimension
+// (Kensler 2013), so lens, light and lobe samples are stratified with the pixel's samples and adaptive
+// refinement refines them too. Dimension 0 is the pixel position (pixelSampleOffset).
+vec2 sampleDimension(uint s, uint n, uint pixelSeed, uint dimension) {
+    return cmjSample(s, n, hashPcg(pixelSeed ^ (dimension * 0x9e3779b9u)));
+}
+
+// The dimensions of sampleDimension: the lens; the lobe of a glossy bounce at ray depth d, kDimLobeBase + d
+// (d < 14); light i's shadow samples, kDimLightBase + i (with <shadow_samples> N > 1, sample k of N of camera
+// sample s is cmjSample(s * N + k, n * N, hashPcg(pixelSeed ^ ((kDimLightBase + i) * 0x9e3779b9u)))).
+const uint kDimLens = 1u;
+const uint kDimLobeBase = 2u;
+const uint kDimLightBase = 16u;
+
+// Pixel-space offset of sample s; a single sample goes through the centre so
+// that spp 1 matches a classic one-ray-per-pixel render.
+vec2 pixelSampleOffset(uint s, uint n, uint pixelSeed) {
+    if (n == 1u) return vec2(0.5);
+    return cmjSample(s, n, pixelSeed);
 }
 
 #endif

@@ -2,6 +2,7 @@
 #ifndef WHITTED_SHADING_GLSL
 #define WHITTED_SHADING_GLSL
 #include "intersect.glsl"
+#include "sampling.glsl"
 
 struct LocalShading {
     vec3 ambient;
@@ -14,6 +15,70 @@ struct LocalShading {
 #include "ray_tree.glsl"
 #endif
 
+// A point on area light `light` for the shaded point p, from u uniform in
+// [0, 1)^2. A rectangle: uniform over its area (position + (u.x - 1/2) u +
+// (u.y - 1/2) v). A sphere: pbrt-v4's Sphere::Sample (Pharr, Jakob and
+// Humphreys, 4th ed., 6.2.4): the direction uniform in the cone of
+// directions the sphere fills as seen from p (small cones through the
+// Taylor expansion of sin^2 theta there), and the point where it meets the
+// sphere's near side; from inside the sphere, uniform over its surface.
+vec3 sampleLightPoint(Light light, vec3 p, vec2 u) {
+    if (light.type == kLightRect) return light.position + (u.x - 0.5) * light.u + (u.y - 0.5) * light.v;
+    const float kTwoPi = 6.28318530718;
+    float phi = kTwoPi * u.y;
+    vec3 toCentre = light.position - p;
+    float r = light.radius, dist2 = dot(toCentre, toCentre);
+    if (dist2 <= r * r) {
+        float z = 1.0 - 2.0 * u.x, rho = sqrt(max(0.0, 1.0 - z * z));
+        return light.position + r * vec3(rho * cos(phi), rho * sin(phi), z);
+    }
+    float sinThetaMax = r / sqrt(dist2), sin2ThetaMax = sinThetaMax * sinThetaMax;
+    float cosThetaMax = sqrt(max(0.0, 1.0 - sin2ThetaMax));
+    float cosTheta = (cosThetaMax - 1.0) * u.x + 1.0;
+    float sin2Theta = 1.0 - cosTheta * cosTheta;
+    if (sin2ThetaMax < 0.00068523) {  // sin^2(1.5 degrees)
+        sin2Theta = sin2ThetaMax * u.x;
+        cosTheta = sqrt(1.0 - sin2Theta);
+    }
+    // The angle alpha at the centre between -wc and the point (law of sines).
+    float cosAlpha = sin2Theta / sinThetaMax + cosTheta * sqrt(max(0.0, 1.0 - sin2Theta / sin2ThetaMax));
+    float sinAlpha = sqrt(max(0.0, 1.0 - cosAlpha * cosAlpha));
+    // An orthonormal frame about wc (Duff et al., "Building an Orthonormal
+    // Basis, Revisited", JCGT 2017).
+    vec3 wc = toCentre / sqrt(dist2);
+    float sign = wc.z >= 0.0 ? 1.0 : -1.0;
+    float a = -1.0 / (sign + wc.z), b = wc.x * wc.y * a;
+    vec3 x = vec3(1.0 + sign * wc.x * wc.x * a, sign * b, -sign * wc.x);
+    vec3 y = vec3(b, sign + wc.y * wc.y * a, -wc.y);
+    vec3 normal = -(sinAlpha * cos(phi) * x + sinAlpha * sin(phi) * y + cosAlpha * wc);
+    return light.position + r * normal;
+}
+
+// One shadow ray from p towards light i, along unit l to distance dist, and
+// what light it lets through, `radiance` on arrival unshadowed, adds to s's
+// diffuse and specular terms (shadeLocal).
+void addLightSample(inout LocalShading s, uint i, Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir, vec3 l,
+                    float dist, vec3 radiance) {
+    float nDotL = dot(n, l);
+    if (nDotL <= 0.0 || dot(ng, l) <= 0.0) return;
+    s.shadowRays += 1u;
+#ifdef WHITTED_PROFILE_NO_SHADOWS  // tools/profile_shader.sh: what shadow rays cost
+    vec3 visibility = vec3(1.0);
+#else
+    vec3 visibility = shadowTransmittance(Ray(p, l), dist);
+#endif
+#ifdef WHITTED_RAY_TREE
+    rayTreeShadowRay(i, Ray(p, l), dist, visibility, s.diffuse, s.specular);
+#endif
+    if (all(equal(visibility, vec3(0.0)))) return;
+    vec3 light = visibility * radiance;
+    s.diffuse += light * m.kd * m.diffuse * nDotL;
+    if (m.ks > 0.0) {
+        vec3 r = reflect(-l, n);
+        s.specular += light * m.ks * m.specular * pow(max(dot(r, viewDir), 0.0), m.shininess);
+    }
+}
+
 // Ambient ka Ca A (Ca the material's ambient colour, Cd without one) plus,
 // per light, its visibility (shadow ray) times its arriving light E times
 // kd Cd max(N.L, 0) + ks Cs max(R.V, 0)^shininess. E is the light's colour
@@ -24,18 +89,27 @@ struct LocalShading {
 // ng the geometric one; both face the viewer and p is already offset to the
 // viewer's side of the surface. A light behind the geometric surface gives
 // nothing even where the shading normal leans towards it.
-LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
+// An area light (a sphere of radius > 0, a rectangle; Cook, Porter and
+// Carpenter 1984, "Distributed ray tracing") is N = shadowSamples point
+// lights of E / N at points sampled on it (sampleLightPoint), E's falloff and
+// cone measured from its centre; L, N.L and R.V are each sample's. Sample k
+// of camera sample `sampleIndex` of n is sampleDimension(sampleIndex N + k, n N,
+// pixelSeed, kDimLightBase + i), so adaptive refinement refines penumbras.
+// A rect light gives nothing to points behind its face (u x v) unless it is
+// two-sided.
+LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir, uint sampleIndex, uint patternSize,
+                        uint pixelSeed) {
     LocalShading s;
     vec3 ambientColor = (m.flags & kMaterialAmbientColor) != 0u ? m.ambientColor : m.diffuse;
     s.ambient = m.ka * ambientColor * params.ambientLight;
     s.diffuse = vec3(0.0);
     s.specular = vec3(0.0);
     s.shadowRays = 0u;
-    float kd = m.kd, ks = m.ks, shininess = m.shininess;
     uint lightCount = params.lightCount;
 #ifdef WHITTED_PROFILE_NO_LIGHTS  // tools/profile_shader.sh: ambient only, no light loop
     lightCount = 0u;
 #endif
+    if (m.kd <= 0.0 && m.ks <= 0.0) lightCount = 0u;
     for (uint i = 0u; i < lightCount; ++i) {
         uint type = lights[i].type;
         vec3 l;
@@ -56,23 +130,23 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir) {
                 attenuation *= cone * cone;
             }
         }
-        float nDotL = dot(n, l);
-        if (nDotL <= 0.0 || dot(ng, l) <= 0.0 || (kd <= 0.0 && ks <= 0.0) || attenuation <= 0.0) continue;
-        s.shadowRays += 1u;
-#ifdef WHITTED_PROFILE_NO_SHADOWS  // tools/profile_shader.sh: what shadow rays cost
-        vec3 visibility = vec3(1.0);
-#else
-        vec3 visibility = shadowTransmittance(Ray(p, l), dist);
-#endif
-#ifdef WHITTED_RAY_TREE
-        rayTreeShadowRay(i, Ray(p, l), dist, visibility, s.diffuse, s.specular);
-#endif
-        if (all(equal(visibility, vec3(0.0)))) continue;
-        vec3 light = visibility * (lights[i].color * attenuation);
-        s.diffuse += light * kd * m.diffuse * nDotL;
-        if (ks > 0.0) {
-            vec3 r = reflect(-l, n);
-            s.specular += light * ks * m.specular * pow(max(dot(r, viewDir), 0.0), shininess);
+        if (attenuation <= 0.0) continue;
+        // A point or directional light keeps l and dist and draws no sample.
+        // One call of addLightSample for both (its shadow walk is inlined
+        // once).
+        bool area = type == kLightRect || lights[i].radius > 0.0;
+        if (type == kLightRect && lights[i].twoSided == 0u && dot(l, cross(lights[i].u, lights[i].v)) >= 0.0)
+            continue;  // behind a one-sided rectangle
+        uint count = area ? lights[i].shadowSamples : 1u;
+        vec3 radiance = lights[i].color * (area ? attenuation / float(count) : attenuation);
+        for (uint k = 0u; k < count; ++k) {
+            if (area) {
+                vec2 u = sampleDimension(sampleIndex * count + k, patternSize * count, pixelSeed, kDimLightBase + i);
+                vec3 toPoint = sampleLightPoint(lights[i], p, u) - p;
+                dist = length(toPoint);
+                l = toPoint / dist;
+            }
+            addLightSample(s, i, m, p, n, ng, viewDir, l, dist, radiance);
         }
     }
     return s;

@@ -97,7 +97,8 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
     PendingRay stack[kRayStackSize];
     int top = 0;
     uint maxDepth = params.maxDepth;
-    uint nextSample = first;
+    uint nextSample = first;  // the current camera sample is nextSample - 1
+    uint patternSize = n;     // (n below is a hit's normal)
     vec2 size = vec2(params.width, params.height);
     vec3 sampleColor = vec3(0.0);  // the current sample's colour so far
     uint sampleObject = kNoObject;
@@ -188,7 +189,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         }
 #endif
 
-        LocalShading local = shadeLocal(m, pOutside, ns, n, -ray.dir);
+        LocalShading local = shadeLocal(m, pOutside, ns, n, -ray.dir, nextSample - 1u, patternSize, pixelSeed);
         // Emission is added where a ray hits the surface (it lights nothing
         // else); it counts in the ambient component, the other constant term.
         local.ambient += m.emission;

@@ -645,7 +645,7 @@ std::vector<BadCase> lightAndCameraCases() {
          withLights("<light><position x=\"0\" y=\"0\" z=\"0\"/><color r=\"1\" g=\"1\" b=\"1\"/>\n"
                     "<power>2</power></light>"),
          "t.xml:3: unknown element <power> in <light>; expected one of: type, position, color, intensity, falloff, "
-         "direction, inner_angle, outer_angle, name"},
+         "direction, inner_angle, outer_angle, radius, shadow_samples, u, v, two_sided, name"},
         {"NegativeAmbientLight", withLights("", "\n<ambient_light r=\"0\" g=\"-1\" b=\"0\"/>"),
          "t.xml:3: attribute g of <ambient_light> must be >= 0, got -1"},
         {"MissingWindow", withCamera("<position x=\"0\" y=\"0\" z=\"5\"/>"),

@@ -133,6 +133,7 @@ const char* lightTypeName(Light::Type t) {
     switch (t) {
         case Light::Type::Spot: return "spot";
         case Light::Type::Directional: return "directional";
+        case Light::Type::Rect: return "rect";
         case Light::Type::Point: break;
     }
     return "point";
@@ -387,14 +388,44 @@ Mesh buildMesh(const py::object& vertices, const py::object& faces, const py::ob
     return mesh;
 }
 
+// The area-light fields (scenes/README.md "Area lights"), checked as the
+// XML loader checks them: `prefix` is "add_light" or "Light".
+void setRadius(const std::string& prefix, Light& l, double radius) {
+    if (radius != 0.0 && l.type != Light::Type::Point && l.type != Light::Type::Spot)
+        refuse(prefix + ".radius", std::string("0 for a ") + lightTypeName(l.type) + " light (only point and spot lights are spheres)", shown(radius));
+    l.radius = checked(prefix + ".radius", radius, kLightRadiusRange);
+}
+void setRectEdges(const std::string& field, Light& l, const glm::dvec3& u, const glm::dvec3& v) {
+    if (l.type != Light::Type::Rect) refuse(field, std::string("None for a ") + lightTypeName(l.type) + " light (only a rect light has edges)", "a value");
+    checked(field, u, xml::kAnyValue);
+    checked(field, v, xml::kAnyValue);
+    if (!rectEdgesSpan(u, v)) refuse(field, "edges u and v that are neither zero nor parallel", "(" + shown(u.x) + ", " + shown(u.y) + ", " + shown(u.z) + ") and (" + shown(v.x) + ", " + shown(v.y) + ", " + shown(v.z) + ")");
+    l.u = u;
+    l.v = v;
+}
+void setShadowSamples(const std::string& prefix, Light& l, int samples) {
+    if (samples < 1 || samples > kMaxShadowSamples) refuse(prefix + ".shadow_samples", "in 1.." + std::to_string(kMaxShadowSamples), std::to_string(samples));
+    if (samples != 1 && !l.area()) refuse(prefix + ".shadow_samples", "1 for a light without area (a point or spot light of radius 0, a directional light)", std::to_string(samples));
+    l.shadowSamples = samples;
+}
+
+// The area-light arguments of add_light.
+struct AreaArguments {
+    double radius;
+    int shadowSamples;
+    py::object u, v;
+    bool twoSided;
+};
+
 Light buildLight(const py::object& position, const py::object& color, const std::string& type, double intensity,
                  const std::string& falloff, const py::object& direction, const py::object& inner,
-                 const py::object& outer, const py::object& name) {
+                 const py::object& outer, const py::object& name, const AreaArguments& area) {
     Light l;
     if (type == "point") l.type = Light::Type::Point;
     else if (type == "spot") l.type = Light::Type::Spot;
     else if (type == "directional") l.type = Light::Type::Directional;
-    else refuse("add_light.type", "'point', 'spot' or 'directional'", "'" + type + "'");
+    else if (type == "rect") l.type = Light::Type::Rect;
+    else refuse("add_light.type", "'point', 'spot', 'directional' or 'rect'", "'" + type + "'");
     if (l.type == Light::Type::Directional) {
         if (!position.is_none()) refuse("add_light.position", "None for a directional light (it has no position)", py::repr(position).cast<std::string>());
     } else {
@@ -407,8 +438,8 @@ Light buildLight(const py::object& position, const py::object& color, const std:
     else if (falloff != "none") refuse("add_light.falloff", "'none' or 'inverse_square'", "'" + falloff + "'");
     if (l.type == Light::Type::Directional && l.falloff != Light::Falloff::None)
         refuse("add_light.falloff", "'none' for a directional light (its light does not weaken with distance)", "'" + falloff + "'");
-    if (l.type == Light::Type::Point) {
-        if (!direction.is_none()) refuse("add_light.direction", "None for a point light (only spot and directional lights have one)", py::repr(direction).cast<std::string>());
+    if (l.type == Light::Type::Point || l.type == Light::Type::Rect) {
+        if (!direction.is_none()) refuse("add_light.direction", "None for a " + type + " light (only spot and directional lights have one)", py::repr(direction).cast<std::string>());
     } else {
         if (direction.is_none()) refuse("add_light.direction", "3 numbers (required for a " + type + " light)", "None");
         l.direction = loaderDirection("add_light.direction", toVec(direction, "add_light.direction"));
@@ -421,6 +452,15 @@ Light buildLight(const py::object& position, const py::object& color, const std:
         if (!(l.innerAngleDegrees < l.outerAngleDegrees))
             refuse("add_light.outer_angle", "greater than inner_angle (" + shown(l.innerAngleDegrees) + ")", shown(l.outerAngleDegrees));
     }
+    setRadius("add_light", l, area.radius);
+    if (l.type == Light::Type::Rect) {
+        if (area.u.is_none() || area.v.is_none()) refuse(area.u.is_none() ? "add_light.u" : "add_light.v", "3 numbers (required for a rect light)", "None");
+        setRectEdges("add_light.v", l, toVec(area.u, "add_light.u"), toVec(area.v, "add_light.v"));
+        l.twoSided = area.twoSided;
+    } else if (!area.u.is_none() || !area.v.is_none() || area.twoSided) {
+        refuse(!area.u.is_none() ? "add_light.u" : !area.v.is_none() ? "add_light.v" : "add_light.two_sided", "left out for a " + type + " light (only a rect light has edges and faces)", "a value");
+    }
+    setShadowSamples("add_light", l, area.shadowSamples);
     l.name = checkedName("add_light.name", name);
     return l;
 }
@@ -776,6 +816,42 @@ void addSceneApi(py::module_& m) {
                 v.l().intensity = checked("Light.intensity", x, xml::kNonNegative);
                 ++v.s->versions.lights;
             })
+        .def_property(
+            "radius", [](const LightView& v) { return v.l().radius; },
+            [](const LightView& v, double x) {
+                setRadius("Light", v.l(), x);
+                ++v.s->versions.lights;
+            },
+            "a point or spot light's sphere radius (0: a point)")
+        .def_property(
+            "shadow_samples", [](const LightView& v) { return v.l().shadowSamples; },
+            [](const LightView& v, int x) {
+                setShadowSamples("Light", v.l(), x);
+                ++v.s->versions.lights;
+            },
+            "an area light's shadow rays per camera sample")
+        .def_property(
+            "u", [](const LightView& v) { return toTuple(v.l().u); },
+            [](const LightView& v, py::object x) {
+                setRectEdges("Light.u", v.l(), toVec(x, "Light.u"), v.l().v);
+                ++v.s->versions.lights;
+            },
+            "a rect light's first full edge")
+        .def_property(
+            "v", [](const LightView& v) { return toTuple(v.l().v); },
+            [](const LightView& v, py::object x) {
+                setRectEdges("Light.v", v.l(), v.l().u, toVec(x, "Light.v"));
+                ++v.s->versions.lights;
+            },
+            "a rect light's second full edge; it faces u x v")
+        .def_property(
+            "two_sided", [](const LightView& v) { return v.l().twoSided; },
+            [](const LightView& v, bool x) {
+                if (v.l().type != Light::Type::Rect && x) refuse("Light.two_sided", "False for a " + std::string(lightTypeName(v.l().type)) + " light (only a rect light has faces)", "True");
+                v.l().twoSided = x;
+                ++v.s->versions.lights;
+            },
+            "whether a rect light shines from both faces")
         .def("__repr__", [](const LightView& v) {
             return "Light(" + std::to_string(v.index()) + ", type='" + lightTypeName(v.l().type) + "')";
         });
@@ -954,9 +1030,10 @@ void addSceneApi(py::module_& m) {
         .def(
             "add_light",
             [](const SceneRef& s, py::object position, py::object color, const std::string& type, double intensity,
-               const std::string& falloff, py::object direction, py::object inner, py::object outer, py::object name) {
-                s->scene->lights.push_back(
-                    buildLight(position, color, type, intensity, falloff, direction, inner, outer, name));
+               const std::string& falloff, py::object direction, py::object inner, py::object outer, py::object name,
+               double radius, int shadowSamples, py::object u, py::object v, bool twoSided) {
+                s->scene->lights.push_back(buildLight(position, color, type, intensity, falloff, direction, inner,
+                                                      outer, name, {radius, shadowSamples, u, v, twoSided}));
                 s->lightIds.push_back(s->nextLightId++);
                 ++s->versions.geometry;  // the light count changed: the renderer takes the scene anew
                 return LightView{s, s->lightIds.back()};
@@ -964,8 +1041,10 @@ void addSceneApi(py::module_& m) {
             py::arg("position") = py::none(), py::arg("color") = py::make_tuple(1.0, 1.0, 1.0),
             py::arg("type") = "point", py::arg("intensity") = 1.0, py::arg("falloff") = "none",
             py::arg("direction") = py::none(), py::arg("inner_angle") = py::none(),
-            py::arg("outer_angle") = py::none(), py::arg("name") = py::none(),
-            "a point, spot or directional light with the fields of <light>")
+            py::arg("outer_angle") = py::none(), py::arg("name") = py::none(), py::arg("radius") = 0.0,
+            py::arg("shadow_samples") = 1, py::arg("u") = py::none(), py::arg("v") = py::none(),
+            py::arg("two_sided") = false,
+            "a point, spot, directional or rect light with the fields of <light>")
         .def(
             "remove",
             [](const SceneRef& s, py::object handle) {

@@ -32,10 +32,12 @@ static_assert(sizeof(gpu::SurfaceAttributes) == 48 && offsetof(gpu::SurfaceAttri
               offsetof(gpu::SurfaceAttributes, uv1) == 8 && offsetof(gpu::SurfaceAttributes, uv2) == 16 &&
               offsetof(gpu::SurfaceAttributes, tangents) == 32 &&
               offsetof(gpu::SurfaceAttributes, hasTangents) == 44);
-static_assert(sizeof(gpu::Light) == 64 && offsetof(gpu::Light, position) == 0 && offsetof(gpu::Light, type) == 12 &&
+static_assert(sizeof(gpu::Light) == 96 && offsetof(gpu::Light, position) == 0 && offsetof(gpu::Light, type) == 12 &&
               offsetof(gpu::Light, color) == 16 && offsetof(gpu::Light, falloff) == 28 &&
               offsetof(gpu::Light, direction) == 32 && offsetof(gpu::Light, cosInner) == 44 &&
-              offsetof(gpu::Light, cosOuter) == 48);
+              offsetof(gpu::Light, cosOuter) == 48 && offsetof(gpu::Light, radius) == 52 &&
+              offsetof(gpu::Light, shadowSamples) == 56 && offsetof(gpu::Light, twoSided) == 60 &&
+              offsetof(gpu::Light, u) == 64 && offsetof(gpu::Light, v) == 80);
 static_assert(sizeof(gpu::BvhNode) == 80 && offsetof(gpu::BvhNode, origin) == 0 &&
               offsetof(gpu::BvhNode, exponents) == 12 && offsetof(gpu::BvhNode, childBase) == 16 &&
               offsetof(gpu::BvhNode, primitiveBase) == 20 && offsetof(gpu::BvhNode, childInfo0) == 24 &&
@@ -117,14 +119,19 @@ gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const 
 
 // The light as the shader's loop takes it (shaders/shading.glsl).
 gpu::Light packLight(const Light& l) {
-    constexpr uint32_t kTypes[] = {gpu::kLightPoint, gpu::kLightSpot, gpu::kLightDirectional};
+    constexpr uint32_t kTypes[] = {gpu::kLightPoint, gpu::kLightSpot, gpu::kLightDirectional, gpu::kLightRect};
     return {.position = glm::vec3(l.position),
             .type = kTypes[int(l.type)],
             .color = glm::vec3(l.color * l.intensity),
             .falloff = l.falloff == Light::Falloff::InverseSquare ? gpu::kFalloffInverseSquare : gpu::kFalloffNone,
             .direction = glm::vec3(glm::normalize(l.direction)),
             .cosInner = float(std::cos(glm::radians(l.innerAngleDegrees))),
-            .cosOuter = float(std::cos(glm::radians(l.outerAngleDegrees)))};
+            .cosOuter = float(std::cos(glm::radians(l.outerAngleDegrees))),
+            .radius = l.type == Light::Type::Rect ? 0.0f : float(l.radius),
+            .shadowSamples = l.area() ? uint32_t(l.shadowSamples) : 1u,
+            .twoSided = l.twoSided ? 1u : 0u,
+            .u = glm::vec3(l.u),
+            .v = glm::vec3(l.v)};
 }
 
 // Whether a mesh object needs per-triangle surface attributes.

@@ -199,6 +199,20 @@ constexpr int kSpotPieces = 16;
 // format's coordinates (scene/xml_reader.h, kMaxMagnitude 1e6).
 constexpr double kParallelDistance = 1e7;
 
+// An area light of ours as POV-Ray's area_light (see the header): a grid of
+// ceil(sqrt(N))^2 jittered points for our N shadow samples, every one used
+// (no adaptive), each with its own direction (area_illumination on). A
+// sphere is the disc of its radius facing the shaded point (circular
+// orient); a rect light its edges u and v. Empty for a point light.
+std::string areaLight(const Light& light) {
+    if (!light.area()) return "";
+    int side = int(std::ceil(std::sqrt(double(light.shadowSamples))));
+    std::string grid = ", " + std::to_string(side) + ", " + std::to_string(side) + " jitter area_illumination on";
+    if (light.type == Light::Type::Rect) return " area_light " + vec(light.u) + ", " + vec(light.v) + grid;
+    double diameter = 2.0 * light.radius;
+    return " area_light " + vec({diameter, 0, 0}) + ", " + vec({0, diameter, 0}) + grid + " circular orient";
+}
+
 // One light of ours as POV-Ray light_source blocks. POV-Ray's default
 // fade_power 0 means no falloff, as ours without <falloff>.
 std::string lightSource(const Light& light) {
@@ -211,7 +225,8 @@ std::string lightSource(const Light& light) {
         fade = " fade_distance " + num(kFadeDistance) + " fade_power 2";
     }
     glm::dvec3 direction = glm::normalize(light.direction);
-    if (light.type == Light::Type::Point) {
+    fade += areaLight(light);
+    if (light.type == Light::Type::Point || light.type == Light::Type::Rect) {
         s << "light_source { " << vec(light.position) << " color rgb " << vec(colour) << fade << " }\n";
     } else if (light.type == Light::Type::Directional) {
         glm::dvec3 location = -direction * kParallelDistance;
@@ -339,6 +354,10 @@ std::vector<std::string> povrayInexactMappings(const Scene& scene) {
                                 "refracted light by the pigment; exported approximately, its shadows exactly)");
         }
     }
+    for (const Light& light : scene.lights)
+        if (light.type == Light::Type::Rect && !light.twoSided)
+            notes.push_back(scene.sourcePath.string() + ":" + std::to_string(light.sourceLine) +
+                            ": a one-sided rect light (POV-Ray's area_light shines from both faces)");
     return notes;
 }
 

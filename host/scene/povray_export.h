@@ -24,6 +24,18 @@
 //                      weighted by the rise of s^2 over its ramp: within
 //                      0.0123 of the light's full strength everywhere, exact
 //                      inside the inner cone and outside the outer one
+//   area lights        area_light: POV-Ray splits the colour over its grid
+//                      of point lights, so the total is one point light's,
+//                      as ours (scenes/README.md "Area lights"); a grid of
+//                      ceil(sqrt(N))^2 jittered points for <shadow_samples>
+//                      N, area_illumination on (each point's own direction,
+//                      as ours). A sphere light: the disc of its radius
+//                      facing the shaded point (circular orient), where ours
+//                      samples the sphere's cone of directions: the same
+//                      within (R/d)^2. A rect light: axes u and v; POV-Ray's
+//                      shines from both faces, so a one-sided one matches
+//                      only where it is seen from the front (a place
+//                      povrayInexactMappings names when the scene has one)
 //   recursion          max_trace_level D+1 (POV-Ray counts the camera ray
 //                      as level 1; we count secondary bounces), adc_bailout 0
 //   shadows of glass   pigment { rgbft <Cd, kt·kd, kt·(1-kd)> }: POV-Ray

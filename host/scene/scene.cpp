@@ -15,6 +15,13 @@ CameraFrameProblem cameraFrameProblem(const Camera& camera) {
     return CameraFrameProblem::None;
 }
 
+bool rectEdgesSpan(const glm::dvec3& u, const glm::dvec3& v) {
+    // Unit edges closer to parallel than |cross| 1e-6 span no area (as the camera's up above).
+    constexpr double kParallelTolerance = 1e-6;
+    double lu = glm::length(u), lv = glm::length(v);
+    return lu > 0.0 && lv > 0.0 && glm::length(glm::cross(u / lu, v / lv)) >= kParallelTolerance;
+}
+
 size_t csgLeafCount(const Csg& csg) {
     size_t count = 0;
     for (const CsgChild& child : csg.children) {

@@ -66,8 +66,13 @@ CameraFrameProblem cameraFrameProblem(const Camera& camera);
 // with inverse-square falloff; a spot scales it by
 // saturate((cos theta - cos outer) / (cos inner - cos outer))^2, theta the
 // angle from its direction (the KHR_lights_punctual formula).
+// Area lights (distribution ray tracing, Cook, Porter and Carpenter 1984): a
+// point or spot light with a radius is a sphere, a Rect light a rectangle;
+// each is shadowSamples point lights of the whole colour at points sampled on
+// it, averaged, so a small one matches a point light (scenes/README.md
+// "Area lights").
 struct Light {
-    enum class Type { Point, Spot, Directional };
+    enum class Type { Point, Spot, Directional, Rect };
     enum class Falloff { None, InverseSquare };
     Type type = Type::Point;
     glm::dvec3 position{0, 0, 0};    // point and spot; a directional light has none
@@ -77,9 +82,22 @@ struct Light {
     Falloff falloff = Falloff::None;  // None: the seed's lights, no falloff
     double innerAngleDegrees = 0.0;   // spot: 0 <= inner < outer <= 90
     double outerAngleDegrees = 45.0;
+    double radius = 0.0;              // point and spot: a sphere of this radius; 0 is a point
+    int shadowSamples = 1;            // area lights: shadow rays per camera sample, 1..kMaxShadowSamples
+    glm::dvec3 u{1, 0, 0};            // rect: full edge vectors about position; it faces u x v
+    glm::dvec3 v{0, 1, 0};
+    bool twoSided = false;            // rect: shines from both faces
     std::string name{};  // optional (<name>, a glTF light's name)
     int sourceLine = 0;
+
+    // A sphere of positive radius or a rectangle: its shadow rays go to sampled points.
+    bool area() const {
+        return type == Type::Rect || ((type == Type::Point || type == Type::Spot) && radius > 0.0);
+    }
 };
+
+// Whether a rect light's edges u and v span an area (neither zero, not parallel).
+bool rectEdgesSpan(const glm::dvec3& u, const glm::dvec3& v);
 
 // Phong + Whitted material (see scenes/README.md "Shading model").
 struct Material {

@@ -212,6 +212,11 @@ private:
                          {"direction"},
                          {"inner_angle"},
                          {"outer_angle"},
+                         {"radius"},
+                         {"shadow_samples"},
+                         {"u"},
+                         {"v"},
+                         {"two_sided"},
                          {"name"}});
         Light light;
         light.sourceLine = e->GetLineNum();
@@ -223,12 +228,15 @@ private:
                 light.type = Light::Type::Spot;
             else if (t == "directional")
                 light.type = Light::Type::Directional;
+            else if (t == "rect")
+                light.type = Light::Type::Rect;
             else
-                diag_.fail(type, "<type> of a light must be point, spot or directional, got " + inQuotes(t));
+                diag_.fail(type, "<type> of a light must be point, spot, directional or rect, got " + inQuotes(t));
         }
-        const char* typeName = light.type == Light::Type::Point ? "point"
-                               : light.type == Light::Type::Spot ? "spot"
-                                                                 : "directional";
+        const char* typeName = light.type == Light::Type::Point         ? "point"
+                               : light.type == Light::Type::Spot        ? "spot"
+                               : light.type == Light::Type::Directional ? "directional"
+                                                                        : "rect";
         auto notApplying = [&](const XMLElement* element, const std::string& why) {
             diag_.fail(element, tag(element->Name()) + " does not apply to a " + typeName + " light; " + why);
         };
@@ -257,7 +265,7 @@ private:
         }
 
         const XMLElement* direction = l.optional("direction");
-        if (light.type == Light::Type::Point) {
+        if (light.type == Light::Type::Point || light.type == Light::Type::Rect) {
             if (direction) notApplying(direction, "only spot and directional lights have one");
         } else {
             if (!direction)
@@ -278,8 +286,42 @@ private:
                                                       showBound(light.innerAngleDegrees) +
                                                       "); a spot has 0 <= inner < outer <= 90 degrees");
         }
+        readAreaLight(l, light, notApplying);
         if (const XMLElement* name = l.optional("name")) light.name = valueText(diag_, name);
         return light;
+    }
+
+    // What makes a light an area light (scenes/README.md "Area lights"): a
+    // point or spot light's <radius>, a rect light's <u>, <v> and
+    // <two_sided>, and either's <shadow_samples>.
+    template <typename NotApplying>
+    void readAreaLight(ElementReader& l, Light& light, const NotApplying& notApplying) const {
+        const XMLElement* radius = l.optional("radius");
+        if (radius) {
+            if (light.type != Light::Type::Point && light.type != Light::Type::Spot)
+                notApplying(radius, "only point and spot lights are spheres (a rect light has <u> and <v>)");
+            light.radius = number(diag_, radius, kLightRadiusRange);
+        }
+        for (const char* rectOnly : {"u", "v", "two_sided"})
+            if (const XMLElement* element = l.optional(rectOnly); element && light.type != Light::Type::Rect)
+                notApplying(element, "only a rect light has edges and faces");
+        if (light.type == Light::Type::Rect) {
+            const XMLElement* u = l.required("u");
+            const XMLElement* v = l.required("v");
+            light.u = vector(diag_, u);
+            light.v = vector(diag_, v);
+            if (glm::length(light.u) == 0.0) diag_.fail(u, "<u> of a rect light must not be zero");
+            if (glm::length(light.v) == 0.0) diag_.fail(v, "<v> of a rect light must not be zero");
+            if (!rectEdgesSpan(light.u, light.v))
+                diag_.fail(v, "<v> of a rect light must not be parallel to its <u>: the rectangle has no area");
+            if (const XMLElement* twoSided = l.optional("two_sided")) light.twoSided = boolean(diag_, twoSided);
+        }
+        if (const XMLElement* samples = l.optional("shadow_samples")) {
+            if (!light.area())
+                notApplying(samples, "it needs one shadow ray: only an area light (a point or spot light with a "
+                                     "<radius> above 0, a rect light) takes more");
+            light.shadowSamples = integer(diag_, samples, 1, kMaxShadowSamples);
+        }
     }
 
     // ---- Objects ----

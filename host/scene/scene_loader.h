@@ -21,6 +21,10 @@ inline constexpr xml::Range kFovRange{0, 180, true, true};
 // A spot's cone: 0 <= inner < outer <= 90 degrees.
 inline constexpr xml::Range kInnerAngleRange{0, 90, false, true};
 inline constexpr xml::Range kOuterAngleRange{0, 90, true, false};
+// An area light (scenes/README.md "Area lights"): a sphere's radius, its
+// shadow rays per camera sample.
+inline constexpr xml::Range kLightRadiusRange{0, 1e6, false, false};
+inline constexpr int kMaxShadowSamples = 256;
 
 // Reads and loads the file at `path`; a file that cannot be read gives
 // SceneError(path, 0, "cannot read file: <reason>").

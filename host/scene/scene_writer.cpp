@@ -148,17 +148,25 @@ void writeLight(XmlOut& x, const Light& l) {
     x.open("light");
     if (l.type == Light::Type::Spot) x.value("type", "spot");
     if (l.type == Light::Type::Directional) x.value("type", "directional");
+    if (l.type == Light::Type::Rect) x.value("type", "rect");
     if (!l.name.empty()) x.value("name", escapedXml(l.name));
     if (l.type != Light::Type::Directional) x.vector("position", l.position);
     x.colour("color", l.color);
     if (l.intensity != 1.0) x.value("intensity", l.intensity);
     if (l.falloff == Light::Falloff::InverseSquare && l.type != Light::Type::Directional)
         x.value("falloff", "inverse_square");
-    if (l.type != Light::Type::Point) x.vector("direction", l.direction);
+    if (l.type == Light::Type::Spot || l.type == Light::Type::Directional) x.vector("direction", l.direction);
     if (l.type == Light::Type::Spot) {
         x.value("inner_angle", l.innerAngleDegrees);
         x.value("outer_angle", l.outerAngleDegrees);
     }
+    if (l.radius > 0.0 && (l.type == Light::Type::Point || l.type == Light::Type::Spot)) x.value("radius", l.radius);
+    if (l.type == Light::Type::Rect) {
+        x.vector("u", l.u);
+        x.vector("v", l.v);
+        if (l.twoSided) x.value("two_sided", "true");
+    }
+    if (l.area() && l.shadowSamples != 1) x.value("shadow_samples", l.shadowSamples);
     x.close("light");
 }
 

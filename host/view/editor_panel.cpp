@@ -1,5 +1,7 @@
 #include "view/editor_panel.h"
 
+#include "scene/scene_loader.h"
+
 #include <imgui/imgui.h>
 
 #include <algorithm>
@@ -140,7 +142,7 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         // The light's type and what it uses (scenes/README.md "Lights"); the
         // ranges are the loader's, so that Save writes a loadable file.
         int type = int(l.type);
-        if (ImGui::Combo("type", &type, "point\0spot\0directional\0")) {
+        if (ImGui::Combo("type", &type, "point\0spot\0directional\0rect\0")) {
             l.type = Light::Type(type);
             result.changed = true;
         }
@@ -158,7 +160,7 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
                 result.changed = true;
             }
         }
-        if (l.type != Light::Type::Point) {
+        if (l.type == Light::Type::Spot || l.type == Light::Type::Directional) {
             glm::dvec3 d = l.direction;
             if (editVector("direction", d, 0.01f) && glm::length(d) > 1e-6) {
                 l.direction = glm::normalize(d);
@@ -171,6 +173,27 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
             // 0 <= inner < outer <= 90: the outer angle gives way.
             if (l.outerAngleDegrees <= l.innerAngleDegrees)
                 l.outerAngleDegrees = std::min(l.innerAngleDegrees + 0.1, 90.0);
+        }
+        // An area light (scenes/README.md "Area lights"): a sphere's radius,
+        // a rectangle's edges (kept spanning an area) and faces, the shadow
+        // rays per camera sample.
+        if (l.type == Light::Type::Point || l.type == Light::Type::Spot)
+            result.changed |= editScalar("radius", l.radius, 0, 10);
+        if (l.type == Light::Type::Rect) {
+            glm::dvec3 u = l.u, v = l.v;
+            if (editVector("edge u", u, 0.01f) && rectEdgesSpan(u, l.v)) {
+                l.u = u;
+                result.changed = true;
+            }
+            if (editVector("edge v", v, 0.01f) && rectEdgesSpan(l.u, v)) {
+                l.v = v;
+                result.changed = true;
+            }
+            if (ImGui::Checkbox("two-sided", &l.twoSided)) result.changed = true;
+        }
+        if (l.area() && ImGui::SliderInt("shadow samples", &l.shadowSamples, 1, kMaxShadowSamples)) {
+            l.shadowSamples = std::clamp(l.shadowSamples, 1, kMaxShadowSamples);
+            result.changed = true;
         }
     } else if (state.selectedObject >= 0 && state.selectedObject < int(scene.objects.size())) {
         Object& o = scene.objects[state.selectedObject];
