@@ -131,6 +131,31 @@ TEST(AreaLight, SphereLightPenumbraMatchesVisibleFraction) {
     std::cout << "[          ] penumbra pixels " << penumbra << ", worst |rendered - closed form| " << worst << "\n";
 }
 
+// The shadow samples follow the camera samples (sampleDimension), so
+// adaptive anti-aliasing sees a noisy penumbra and refines it: with one
+// shadow ray per camera sample, the centre row's penumbra pixels take more
+// samples on average than its fully lit ones, which stop at the first pass.
+TEST(AreaLight, AdaptiveRefinementRefinesThePenumbra) {
+    RenderSettings s{.width = kWidth, .height = kHeight, .samplesPerPixel = 64, .maxDepth = 0, .auxiliary = false,
+                     .antiAliasing = AntiAliasing::Adaptive};
+    RenderResult r = renderXml(penumbraXml(true, "<radius>0.5</radius>"), s);
+    ASSERT_EQ(r.sampleCounts.size(), size_t(kWidth * kHeight));
+    double penumbraSum = 0.0, litSum = 0.0;
+    int penumbra = 0, lit = 0;
+    const int y = kHeight / 2;
+    for (int x = 0; x < kWidth; ++x) {
+        double f = visibleFraction(floorPoint(x + 0.5, y + 0.5), kLight, kLightRadius, kBall, kBallRadius);
+        double count = r.sampleCounts[size_t(y) * kWidth + x];
+        if (f > 0.2 && f < 0.8) penumbraSum += count, ++penumbra;
+        if (f == 1.0) litSum += count, ++lit;
+    }
+    ASSERT_GT(penumbra, 5);
+    ASSERT_GT(lit, 5);
+    EXPECT_GT(penumbraSum / penumbra, 2.0 * litSum / lit)
+        << "penumbra " << penumbraSum / penumbra << " samples a pixel, lit " << litSum / lit;
+    std::cout << "[          ] samples a pixel: penumbra " << penumbraSum / penumbra << ", lit " << litSum / lit << "\n";
+}
+
 // The ray tree records each sampled shadow ray: at a penumbra pixel the
 // camera ray has its light's 8 shadow rays, to different points, some
 // blocked by the ball and some lit; their shares add up to the ray's diffuse

@@ -394,6 +394,7 @@ void setRadius(const std::string& prefix, Light& l, double radius) {
     if (radius != 0.0 && l.type != Light::Type::Point && l.type != Light::Type::Spot)
         refuse(prefix + ".radius", std::string("0 for a ") + lightTypeName(l.type) + " light (only point and spot lights are spheres)", shown(radius));
     l.radius = checked(prefix + ".radius", radius, kLightRadiusRange);
+    if (!l.area()) l.shadowSamples = 1;  // a point again: one shadow ray, as the saved file reads back
 }
 void setRectEdges(const std::string& field, Light& l, const glm::dvec3& u, const glm::dvec3& v) {
     if (l.type != Light::Type::Rect) refuse(field, std::string("None for a ") + lightTypeName(l.type) + " light (only a rect light has edges)", "a value");

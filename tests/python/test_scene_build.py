@@ -194,6 +194,8 @@ def test_area_lights_render_as_their_saved_file(tmp_path):
     assert np.array_equal(image, read_exr(tmp_path / "x.exr"))
     again = whitted.load(path)
     assert again.lights[2].two_sided and again.lights[0].shadow_samples == 4 and again.lights[0].radius == 0.4
+    sphere.radius = 0  # a point light again: one shadow ray
+    assert sphere.shadow_samples == 1
 
 
 def test_masks_legend_ids_are_stable_across_add_and_remove():
