@@ -2,6 +2,8 @@
 
 #include "scene/xml_reader.h"
 
+#include <limits>
+
 namespace whitted {
 
 CameraFrameProblem cameraFrameProblem(const Camera& camera) {
@@ -13,6 +15,13 @@ CameraFrameProblem cameraFrameProblem(const Camera& camera) {
     if (!(glm::length(glm::cross(forward / distance, glm::normalize(camera.up))) >= kParallelTolerance))
         return CameraFrameProblem::UpAlongView;
     return CameraFrameProblem::None;
+}
+
+double Camera::focusDistanceOrDefault() const { return focusDistance.value_or(glm::length(windowCenter - eye)); }
+
+double glossyLobeExponent(double roughness) {
+    double alpha = roughness * roughness;
+    return alpha > 0 ? 2.0 / (alpha * alpha) - 2.0 : std::numeric_limits<double>::infinity();
 }
 
 size_t csgLeafCount(const Csg& csg) {

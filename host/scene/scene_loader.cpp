@@ -45,7 +45,8 @@ const std::vector<std::string_view> kMaterialProperties = {
     "refraction_coef", "transmission_coef", "specular_coef", "diffuse_coef", "ambiente_coef", "reflective",
     "shininess",       "reflection_coef",   "checker_color", "checker_size", "absorption",
     "diffuse_texture", "texture_scale",   "normal_map",    "normal_strength", "fresnel",
-    "transmission_color", "emission", "emission_texture", "ambient_color"};
+    "transmission_color", "emission", "emission_texture", "ambient_color",
+    "roughness"};
 
 // <properties>: the seed's material elements, the extensions, then the
 // shape elements (each applies to some types only; see readShape).
@@ -70,6 +71,7 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"emission"},
                                                {"emission_texture"},
                                                {"ambient_color"},
+                                               {"roughness"},
                                                {"radius"},
                                                {"height"},
                                                {"axis"},
@@ -119,7 +121,8 @@ private:
 
     Camera readCamera(const XMLElement* e) const {
         ElementReader c(diag_, e,
-                        {{"position"}, {"window_position"}, {"up"}, {"fov"}, {"window_height"}, {"width"}, {"height"}, {"projection"}});
+                        {{"position"}, {"window_position"}, {"up"}, {"fov"}, {"window_height"}, {"width"}, {"height"}, {"projection"},
+                         {"aperture_radius"}, {"focus_distance"}});
         Camera camera;
         camera.eye = vector(diag_, c.required("position"));
         camera.windowCenter = vector(diag_, c.required("window_position"));
@@ -172,6 +175,9 @@ private:
         constexpr int maxSide = int(gpu::kMaxImageSide);
         if (const XMLElement* width = c.optional("width")) camera.width = integer(diag_, width, 1, maxSide);
         if (const XMLElement* height = c.optional("height")) camera.height = integer(diag_, height, 1, maxSide);
+        // Depth of field: a thin lens (scenes/README.md "Depth of field").
+        if (const XMLElement* a = c.optional("aperture_radius")) camera.apertureRadius = number(diag_, a, kNonNegative);
+        if (const XMLElement* f = c.optional("focus_distance")) camera.focusDistance = number(diag_, f, kPositive);
         return camera;
     }
 
@@ -486,6 +492,7 @@ private:
             m.transmissionColor = colour(diag_, c, kUnitInterval);
         if (const XMLElement* c = properties.optional("emission")) m.emission = colour(diag_, c, kNonNegative);
         if (const XMLElement* c = properties.optional("ambient_color")) m.ambientColor = colour(diag_, c, kUnitInterval);
+        if (const XMLElement* r = properties.optional("roughness")) m.roughness = number(diag_, r, kUnitInterval);
         return m;
     }
 

@@ -106,6 +106,17 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
     ImGui::SameLine();
     ImGui::TextDisabled("writes the scene file");
 
+    // The camera's thin lens (scenes/README.md "Depth of field"): aperture 0 is a pinhole; the focus
+    // distance, once edited, no longer follows the window's distance.
+    if (ImGui::CollapsingHeader("Camera lens")) {
+        Camera& c = scene.camera;
+        result.lensChanged |= editScalar("aperture radius", c.apertureRadius, 0, 1);
+        double focus = c.focusDistanceOrDefault();
+        if (editScalar("focus distance", focus, 0.01, 100)) {
+            c.focusDistance = focus;
+            result.lensChanged = true;
+        }
+    }
     if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen))
         for (int i = 0; i < int(scene.lights.size()); ++i) {
             char label[32];
@@ -213,6 +224,7 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         result.changed |= editScalar("reflection kr", m.reflection, 0, 1);
         result.changed |= editScalar("transmission kt", m.transmission, 0, 1);
         result.changed |= editScalar("IOR (refraction_coef)", m.ior, 1, 3);
+        result.changed |= editScalar("roughness (glossy kr, kt)", m.roughness, 0, 1);
         // The checker (<checker_color>, <checker_size>): switched on, size
         // 1 from checkerAnchor; switched off, size 0.
         bool checker = m.checkerSize > 0;
