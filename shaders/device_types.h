@@ -196,6 +196,7 @@ struct Primitive {
 // Material.flags bits.
 WHITTED_CONST uint kMaterialFresnel = 1u;       // kr is F0 of Schlick's approximation
 WHITTED_CONST uint kMaterialAmbientColor = 2u;  // the ambient term takes ambientColor instead of Cd
+WHITTED_CONST uint kMaterialGlossy = 4u;        // roughness > 0: reflected and refracted rays sample a lobe of glossExponent
 
 // Phong + Whitted material.
 struct Material {
@@ -223,7 +224,7 @@ struct Material {
     uint pad6 WHITTED_ZERO;
     float textureScale WHITTED_ZERO;   // planes: world units per repeat
     float normalStrength WHITTED_ZERO;
-    float pad7 WHITTED_ZERO;
+    float glossExponent WHITTED_ZERO;  // kMaterialGlossy: the Phong exponent of the reflection and refraction lobes
     float pad8 WHITTED_ZERO;
     vec3 transmissionColor WHITTED_ZERO;  // tints refracted light and the shadow filter (white: none)
     float pad9 WHITTED_ZERO;
@@ -328,9 +329,9 @@ struct FrameParams {
     vec3 eye WHITTED_ZERO;                 // camera position (orthographic: the window's centre)
     uint projection WHITTED_ZERO;          // kProjection*
     vec3 forward WHITTED_ZERO;             // unit view direction
-    float pad1 WHITTED_ZERO;
+    float apertureRadius WHITTED_ZERO;     // thin lens radius (shaders/camera.glsl); 0: pinhole
     vec3 right WHITTED_ZERO;               // image right, scaled by tan(fov/2) * aspect (orthographic: half the window's width)
-    float pad2 WHITTED_ZERO;
+    float focusDistance WHITTED_ZERO;      // with a lens: the plane of focus's distance along the unit view axis
     vec3 up WHITTED_ZERO;                  // image up, scaled by tan(fov/2) (orthographic: half the window's height)
     float pad3 WHITTED_ZERO;
     vec3 ambientLight WHITTED_ZERO;        // A

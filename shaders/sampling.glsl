@@ -2,6 +2,14 @@
 #ifndef WHITTED_SAMPLING_GLSL
 #define WHITTED_SAMPLING_GLSL
 
+// Integer hash (Wang / Jarzynski & Olano, "Hash Functions for GPU Rendering",
+// JCGT 2020: pcg) to turn a pixel index into a pattern seed.
+uint hashPcg(uint v) {
+    uint state = v * 747796405u + 2891336453u;
+    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+    return (word >> 22u) ^ word;
+}
+
 // Hash-based permutation of [0, l) and uniform float from "Correlated
 // Multi-Jittered Sampling", Kensler, Pixar Technical Memo 13-01 (2013).
 uint cmjPermute(uint i, uint l, uint p) {
@@ -38,14 +46,6 @@ vec2 cmjSample(uint s, uint n, uint p) {
     return vec2((float(sx) + (float(sy) + jx) / float(rows)) / float(m), (float(s) + jy) / float(n));
 }
 
-// Integer hash (Wang / Jarzynski & Olano, "Hash Functions for GPU Rendering",
-// JCGT 2020: pcg) to turn a pixel index into a pattern seed.
-uint hashPcg(uint v) {
-    uint state = v * 747796405u + 2891336453u;
-    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
-
 // Dimension `dimension` (>= 1) of sample s of n: an independent correlated multi-jittered pattern per dimension
 // (Kensler 2013), so lens, light and lobe samples are stratified with the pixel's samples and adaptive
 // refinement refines them too. Dimension 0 is the pixel position (pixelSampleOffset).
@@ -65,6 +65,41 @@ const uint kDimLightBase = 16u;
 vec2 pixelSampleOffset(uint s, uint n, uint pixelSeed) {
     if (n == 1u) return vec2(0.5);
     return cmjSample(s, n, pixelSeed);
+}
+
+// A point of the unit disc from u in [0, 1)^2 by the concentric mapping
+// (Shirley and Chiu 1997, "A low distortion map between disk and square";
+// pbrt-v4 SampleUniformDiskConcentric): squares map to rings, so the
+// pattern's strata stay compact on the disc.
+vec2 sampleDiskConcentric(vec2 u) {
+    vec2 o = 2.0 * u - 1.0;
+    if (o.x == 0.0 && o.y == 0.0) return vec2(0.0);
+    const float kPiOver4 = 0.78539816339744831;
+    float r, theta;
+    if (abs(o.x) > abs(o.y)) {
+        r = o.x;
+        theta = kPiOver4 * (o.y / o.x);
+    } else {
+        r = o.y;
+        theta = 2.0 * kPiOver4 - kPiOver4 * (o.x / o.y);
+    }
+    return r * vec2(cos(theta), sin(theta));
+}
+
+// A direction about the unit axis w with density proportional to
+// cos^e of its angle to w (the Phong lobe, sampled as Lafortune and Willems
+// 1994: cos theta = u.x^(1 / (e + 1)), phi = 2 pi u.y), in the orthonormal
+// basis of Duff et al. 2017 ("Building an orthonormal basis, revisited").
+vec3 samplePhongLobe(vec3 w, float e, vec2 u) {
+    float cosTheta = pow(u.x, 1.0 / (e + 1.0));
+    float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));
+    float phi = 6.28318530717958648 * u.y;
+    float sign = w.z >= 0.0 ? 1.0 : -1.0;
+    float a = -1.0 / (sign + w.z);
+    float b = w.x * w.y * a;
+    vec3 t = vec3(1.0 + sign * w.x * w.x * a, sign * b, -sign * w.x);
+    vec3 bt = vec3(b, sign + w.y * w.y * a, -w.y);
+    return normalize(sinTheta * (cos(phi) * t + sin(phi) * bt) + cosTheta * w);
 }
 
 #endif

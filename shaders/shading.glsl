@@ -152,4 +152,15 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir, uint 
     return s;
 }
 
+// The direction of a glossy reflected or refracted ray: drawn from the Phong lobe of exponent e about the ideal
+// direction (Lafortune and Willems 1994, sampling.glsl samplePhongLobe). A draw that falls on the wrong side of
+// the surface (whose normal towards the side the ray must leave on is `side`) is mirrored about the surface
+// plane back into it: the lobe is folded, not cut, so its weight stays the ideal ray's and no light is lost or
+// gained.
+vec3 glossyDirection(vec3 ideal, vec3 side, float e, vec2 u) {
+    vec3 d = samplePhongLobe(ideal, e, u);
+    float below = dot(d, side);
+    return below < 0.0 ? d - 2.0 * below * side : d;
+}
+
 #endif

@@ -25,11 +25,13 @@ const uint kSplitBounces = kOutputOptions >> kOptionAovBouncesShift;
 
 // cone: the ray cone's width at the ray's origin and its spread angle
 // (texture LOD, shaders/texture.glsl).
+// PendingRay.component of a lens render's pinhole ray, traced for the auxiliary layers only.
+const uint kPinholeAovRay = 0xffu;
 struct PendingRay {
     Ray ray;
     vec3 weight;
     uint depth;
-    uint component;  // kAovReflection or kAovTransmission for secondary rays
+    uint component;  // kAovReflection or kAovTransmission for secondary rays, kPinholeAovRay
     vec2 cone;
 };
 
@@ -108,6 +110,12 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
     bool orthographic = params.projection == kProjectionOrthographic;
     vec2 pixelCone = orthographic ? vec2(2.0 * length(params.up) / size.y, 0.0)
                                   : vec2(0.0, atan(2.0 * length(params.up) / size.y));
+    // With a lens, each sample's camera ray leaves from a point of the lens;
+    // the depth, normal and coefficient layers still come from the sample's
+    // pinhole ray (through the lens centre), traced for them alone
+    // (kPinholeAovRay), so they stay sharp at every distance.
+    bool lens = params.apertureRadius > 0.0;
+    bool pinholeAovs = lens && (params.options & kWriteAovs) != 0u;
 
     while (probe || top > 0 || nextSample < end) {
         bool probing = probe;
@@ -123,16 +131,22 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             vec2 offset = pixelSampleOffset(nextSample, n, pixelSeed);
             Ray ray = generateCameraRay(vec2(pixel) + offset, size, params.eye, params.forward,
                                         params.right, params.up, params.projection);
+            Ray pinhole = ray;
+            if (lens)
+                ray = thinLensRay(ray, params.right, params.up, params.apertureRadius, params.focusDistance,
+                                  sampleDimension(nextSample, n, pixelSeed, kDimLens));
             stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u, pixelCone);
 #ifdef WHITTED_RAY_TREE
             rayTreePush(top - 1, kRayCamera, ray, vec3(1.0), 0u);
 #endif
+            if (pinholeAovs) stack[top++] = PendingRay(pinhole, vec3(1.0), 0u, kPinholeAovRay, pixelCone);
             rayCount.x += 1u;
             ++nextSample;
         }
         PendingRay pending = stack[--top];
+        bool aovRay = pending.component == kPinholeAovRay;
 #ifdef WHITTED_RAY_TREE
-        if (!probing) rayTreePop(top);
+        if (!probing && !aovRay) rayTreePop(top);
 #endif
         Ray ray = pending.ray;
         if (pending.depth > 0u) rayCount.z += 1u;
@@ -189,6 +203,13 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         }
 #endif
 
+        if (aovRay || (pending.depth == 0u && !lens)) {  // the auxiliary layers of the pinhole ray
+            result.normal += vec4(ns, 1.0);
+            result.coefs0 += vec4(m.ka, m.kd, m.ks, hit.t);
+            result.coefs1 += vec4(kr, kt, ior, 1.0);
+            if (aovRay) continue;
+        }
+
         LocalShading local = shadeLocal(m, pOutside, ns, n, -ray.dir, nextSample - 1u, patternSize, pixelSeed);
         // Emission is added where a ray hits the surface (it lights nothing
         // else); it counts in the ambient component, the other constant term.
@@ -198,9 +219,6 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             result.components[0] += pending.weight * local.ambient;
             result.components[1] += pending.weight * local.diffuse;
             result.components[2] += pending.weight * local.specular;
-            result.normal += vec4(ns, 1.0);
-            result.coefs0 += vec4(m.ka, m.kd, m.ks, hit.t);
-            result.coefs1 += vec4(kr, kt, ior, 1.0);
             sampleColor += pending.weight * (local.ambient + local.diffuse + local.specular);
             sampleObject = prim.material;
         } else {
@@ -245,6 +263,13 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // refraction from index n1 into n2 scales the angle by
         // eta = n1 / n2 and adds -(1 - eta) k w (the surface's power).
         float curvature = surfaceCurvature(prim, hit.normal, p) * (frontFace ? 1.0 : -1.0);
+        // A glossy material (roughness > 0) sends each child along a direction
+        // drawn from a lobe about the ideal one (shading.glsl, glossyDirection), from
+        // this sample's dimension for the ray's depth (sampling.glsl).
+        bool glossy = (m.flags & kMaterialGlossy) != 0u;
+        vec2 lobeSample = glossy ? sampleDimension(nextSample - 1u, patternSize, pixelSeed,
+                                                   kDimLobeBase + min(pending.depth, 13u))
+                                 : vec2(0.0);
         if (kt > 0.0) {
             float eta = frontFace ? 1.0 / ior : ior;
             vec3 refracted = refract(ray.dir, ns, eta);
@@ -257,7 +282,9 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             } else if (transmitWeight > 0.0) {
                 uint component = pending.depth == 0u ? kAovTransmission : pending.component;
                 vec2 cone = vec2(coneWidth, eta * pending.cone.y - (1.0 - eta) * curvature * coneWidth);
-                stack[top++] = PendingRay(Ray(offsetRay(p, -n), normalize(refracted)),
+                refracted = normalize(refracted);
+                if (glossy) refracted = glossyDirection(refracted, -n, m.glossExponent, lobeSample);
+                stack[top++] = PendingRay(Ray(offsetRay(p, -n), refracted),
                                           pending.weight * (transmitWeight * m.transmissionColor), childDepth,
                                           component, cone);
 #ifdef WHITTED_RAY_TREE
@@ -269,6 +296,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             uint component = pending.depth == 0u ? kAovReflection : pending.component;
             vec3 reflected = reflect(ray.dir, ns);
             if (dot(reflected, n) <= 0.0) reflected = reflect(ray.dir, n);
+            if (glossy) reflected = glossyDirection(reflected, n, m.glossExponent, lobeSample);
             vec2 cone = vec2(coneWidth, pending.cone.y + 2.0 * curvature * coneWidth);
             stack[top++] = PendingRay(Ray(pOutside, reflected),
                                       pending.weight * reflectWeight, childDepth, component, cone);

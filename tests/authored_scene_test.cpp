@@ -283,6 +283,16 @@ TEST(AuthoredGltf, MaterialAnchorCases) {
     EXPECT_EQ(lambert.specular, 0.0);
     EXPECT_EQ(lambert.transmission, 0.0);
     EXPECT_FALSE(lambert.fresnel);
+    EXPECT_EQ(lambert.roughness, 0.0);  // an opaque dielectric's reflection fades instead
+
+    // Metals and glass keep their reflection and take the roughness as their glossy lobe's.
+    Material brushed = materialFromGltf(gltfMaterial(b, 1, 0.3));
+    EXPECT_EQ(brushed.reflection, 1.0);
+    EXPECT_EQ(brushed.roughness, 0.3);
+    Material frosted = materialFromGltf(gltfMaterial(glm::dvec3(1), 0, 0.5, 1, 1.5));
+    EXPECT_EQ(frosted.roughness, 0.5);
+    EXPECT_TRUE(frosted.fresnel);
+    EXPECT_DOUBLE_EQ(frosted.reflection, 0.04);
 
     // Volume: sigma = -ln(attenuationColor) / attenuationDistance; a thin
     // wall (thicknessFactor 0) does not bend.
@@ -322,15 +332,16 @@ TEST(AuthoredGltf, VolumeAttenuationIsExpMinusSigmaD) {
     const glm::dvec3 colour(0.5, 0.8, 1.0);
     // The slab is a whitted box (a glTF mesh of two squares would not be
     // closed); its material is the glTF mapping's.
-    GltfMaterial g = gltfMaterial(glm::dvec3(1), 0, 1, 1, 1.0);
+    GltfMaterial g = gltfMaterial(glm::dvec3(1), 0, 0, 1, 1.0);
     g.hasVolume = true;
     g.thicknessFactor = d;
     g.attenuationColor = colour;
     g.attenuationDistance = sigmaSource;
     Material glass = materialFromGltf(g);
     EXPECT_EQ(glass.ior, 1.0);
-    EXPECT_FALSE(glass.fresnel);  // rough: no Schlick rim
+    EXPECT_TRUE(glass.fresnel);  // F0 0 (index 1): no reflection head-on
     EXPECT_EQ(glass.reflection, 0.0);
+    EXPECT_EQ(glass.roughness, 0.0);
     Scene scene;
     scene.ambientLight = glm::dvec3(1);
     scene.camera.eye = {0, 0, 5};

@@ -488,7 +488,7 @@ std::string nested(int depth) {
 const std::string kPropertyList =
     "type, refraction_coef, transmission_coef, specular_coef, diffuse_coef, ambiente_coef, reflective, shininess, "
     "reflection_coef, checker_color, checker_size, absorption, diffuse_texture, texture_scale, normal_map, "
-    "normal_strength, fresnel, transmission_color, emission, emission_texture, ambient_color, radius, height, axis, normal, size, "
+    "normal_strength, fresnel, transmission_color, emission, emission_texture, ambient_color, roughness, radius, height, axis, normal, size, "
     "vertex, polygons, file, scale, rotation, matrix, operation";
 
 std::vector<BadCase> xmlCases() {
@@ -654,7 +654,8 @@ std::vector<BadCase> lightAndCameraCases() {
          "t.xml:2: <camera> is missing <position>"},
         {"UnknownInCamera", cameraWith("<lens>50</lens>"),
          "t.xml:5: unknown element <lens> in <camera>; expected one of: position, window_position, up, fov, "
-         "window_height, width, height, projection, intrinsics"},
+         "window_height, width, height, projection, intrinsics, aperture_radius, "
+         "focus_distance"},
         {"CameraAtWindow", withCamera("<position x=\"1\" y=\"1\" z=\"1\"/><window_position x=\"1\" y=\"1\" z=\"1\"/>"),
          "t.xml:2: camera <position> and <window_position> coincide"},
         {"UpParallel", cameraWith("<up x=\"0\" y=\"0\" z=\"-3\"/>"),

@@ -181,6 +181,8 @@ void materialFields(py::class_<View>& cls) {
     materialField(cls, "ior", &Material::ior, kIor, "index of refraction");
     materialField(cls, "texture_scale", &Material::textureScale, xml::kPositive, "a plane's texture repeat length");
     materialField(cls, "normal_strength", &Material::normalStrength, kNormalStrength, "normal map strength");
+    materialField(cls, "roughness", &Material::roughness, kColourRange,
+                  "glossy reflection and refraction in [0, 1] (<roughness>); 0: a mirror");
     cls.def_property(
         "fresnel", [](View& v) { return materialOf(v).fresnel; },
         [](View& v, bool f) {
@@ -675,6 +677,23 @@ void addSceneApi(py::module_& m) {
                 v.edited();
             },
             "an orthographic camera's window height in scene units (<window_height>)")
+        .def_property(
+            "aperture_radius", [](const CameraView& v) { return v.c().apertureRadius; },
+            [](const CameraView& v, double x) {
+                v.c().apertureRadius = checked("Camera.aperture_radius", x, xml::kNonNegative);
+                v.edited();
+            },
+            "the thin lens's radius in scene units (<aperture_radius>); 0: a pinhole, everything sharp")
+        .def_property(
+            "focus_distance", [](const CameraView& v) { return v.c().focusDistanceOrDefault(); },
+            [](const CameraView& v, py::object x) {
+                if (x.is_none()) v.c().focusDistance.reset();
+                else if (!py::isinstance<py::float_>(x) && !py::isinstance<py::int_>(x))
+                    refuse("Camera.focus_distance", "a number or None", py::repr(x).cast<std::string>());
+                else v.c().focusDistance = checked("Camera.focus_distance", x.cast<double>(), xml::kPositive);
+                v.edited();
+            },
+            "the distance of the plane in focus along the view (<focus_distance>); None: look_at's distance")
         .def("__repr__", [](const CameraView& v) {
             return "Camera(position=" + py::repr(toTuple(v.c().eye)).cast<std::string>() +
                    ", look_at=" + py::repr(toTuple(v.c().windowCenter)).cast<std::string>() +

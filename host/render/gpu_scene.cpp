@@ -26,7 +26,8 @@ static_assert(sizeof(gpu::Material) == 192 && offsetof(gpu::Material, diffuse) =
               offsetof(gpu::Material, diffuseTexture) == 112 && offsetof(gpu::Material, normalMap) == 116 &&
               offsetof(gpu::Material, emissionTexture) == 120 &&
               offsetof(gpu::Material, flags) == 60 && offsetof(gpu::Material, textureScale) == 128 &&
-              offsetof(gpu::Material, normalStrength) == 132 && offsetof(gpu::Material, transmissionColor) == 144 &&
+              offsetof(gpu::Material, normalStrength) == 132 && offsetof(gpu::Material, glossExponent) == 136 &&
+              offsetof(gpu::Material, transmissionColor) == 144 &&
               offsetof(gpu::Material, emission) == 160 && offsetof(gpu::Material, ambientColor) == 176);
 static_assert(sizeof(gpu::SurfaceAttributes) == 48 && offsetof(gpu::SurfaceAttributes, uv0) == 0 &&
               offsetof(gpu::SurfaceAttributes, uv1) == 8 && offsetof(gpu::SurfaceAttributes, uv2) == 16 &&
@@ -47,7 +48,8 @@ static_assert(sizeof(gpu::CsgNode) == 16 && offsetof(gpu::CsgNode, op) == 0 &&
               offsetof(gpu::CsgNode, leaf) == 4);
 static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, eye) == 0 &&
               offsetof(gpu::FrameParams, projection) == 12 &&
-              offsetof(gpu::FrameParams, forward) == 16 && offsetof(gpu::FrameParams, right) == 32 &&
+              offsetof(gpu::FrameParams, forward) == 16 && offsetof(gpu::FrameParams, apertureRadius) == 28 &&
+              offsetof(gpu::FrameParams, right) == 32 && offsetof(gpu::FrameParams, focusDistance) == 44 &&
               offsetof(gpu::FrameParams, up) == 48 && offsetof(gpu::FrameParams, ambientLight) == 64 &&
               offsetof(gpu::FrameParams, width) == 80 && offsetof(gpu::FrameParams, height) == 84 &&
               offsetof(gpu::FrameParams, primitiveCount) == 88 &&
@@ -102,7 +104,8 @@ gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const 
             .kr = float(m.reflection),
             .kt = float(m.transmission),
             .ior = float(m.ior),
-            .flags = (m.fresnel ? gpu::kMaterialFresnel : 0u) | (m.ambientColor ? gpu::kMaterialAmbientColor : 0u),
+            .flags = (m.fresnel ? gpu::kMaterialFresnel : 0u) | (m.ambientColor ? gpu::kMaterialAmbientColor : 0u) |
+                     (m.roughness > 0 ? gpu::kMaterialGlossy : 0u),
             .checkerColor = glm::vec3(m.checkerColor),
             .checkerSize = float(m.checkerSize),
             .checkerOrigin = glm::vec3(m.checkerOrigin),
@@ -112,6 +115,7 @@ gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const 
             .emissionTexture = textureSlot(m.emissionTexture, textures),
             .textureScale = float(m.textureScale),
             .normalStrength = float(m.normalStrength),
+            .glossExponent = m.roughness > 0 ? float(glossyLobeExponent(m.roughness)) : 0.0f,
             .transmissionColor = glm::vec3(m.transmissionColor),
             .emission = glm::vec3(m.emission),
             .ambientColor = glm::vec3(m.ambientColor.value_or(glm::dvec3(0)))};
@@ -151,6 +155,8 @@ void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p
     double halfHeight = orthographic ? camera.windowHeight / 2.0 : std::tan(glm::radians(camera.verticalFovDegrees) / 2.0);
     double aspect = double(width) / double(height);
     p.eye = glm::vec3(camera.eye);
+    p.apertureRadius = float(camera.apertureRadius);
+    p.focusDistance = float(camera.focusDistanceOrDefault());
     p.projection = orthographic ? gpu::kProjectionOrthographic : gpu::kProjectionPerspective;
     if (!orthographic && camera.intrinsics) {
         // From K (scene/camera_matrices.h), for the camera's width x height

@@ -325,6 +325,8 @@ void Renderer::setCamera(const Camera& camera) {
     scene_.params.forward = fresh.forward;
     scene_.params.right = fresh.right;
     scene_.params.up = fresh.up;
+    scene_.params.apertureRadius = fresh.apertureRadius;
+    scene_.params.focusDistance = fresh.focusDistance;
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
 }
 

@@ -75,11 +75,16 @@ Material materialFromGltf(const GltfMaterial& g) {
     out.diffuseColor = b;
     out.diffuseTexture = {"", g.baseColorTexture};
     out.diffuse = (1 - m) * (1 - t);
-    // Reflection and highlight: Schlick's F0 for dielectrics, b for metals,
-    // fading with roughness (Whitted tracing cannot blur a reflection).
+    // Reflection and highlight: Schlick's F0 for dielectrics, b for metals.
+    // Metals and glass reflect (and refract) through the glossy lobe of the
+    // roughness (Material::roughness); an opaque dielectric's faint
+    // reflection fades with roughness instead, as its diffuse term
+    // dominates (a glossy lobe there would add noise for little light).
     double specular = glm::mix(f0, 1.0, m);
+    const bool glossy = m > 0 || t > 0;
     out.specularColor = glm::mix(glm::dvec3(1), b, m);
-    out.reflection = specular * (1 - r) * (1 - r);
+    out.reflection = glossy ? specular : specular * (1 - r) * (1 - r);
+    out.roughness = glossy ? r : 0.0;
     out.specular = specular * (1 - r);
     double alpha = r * r;
     out.shininess = alpha > 0 ? std::clamp(2 / (alpha * alpha) - 2, 1.0, 1e4) : 1e4;
@@ -88,7 +93,7 @@ Material materialFromGltf(const GltfMaterial& g) {
     if (out.transmission > 0) {
         bool thin = g.hasVolume && g.thicknessFactor == 0;
         out.ior = thin ? 1.0 : eta;
-        out.fresnel = r < 1;
+        out.fresnel = true;
         out.transmissionColor = b;
         if (g.hasVolume && !thin && std::isfinite(g.attenuationDistance))
             for (int c = 0; c < 3; ++c)

@@ -293,8 +293,14 @@ std::string exportPovray(const Scene& scene, const PovrayExportOptions& options)
       << "  location " << vec(camera.eye) << "\n"
       << "  direction " << vec(forward) << "\n"
       << "  right " << vec(right * (2.0 * tanHalf * aspect)) << "\n"
-      << "  up " << vec(up * (2.0 * tanHalf)) << "\n"
-      << "}\n\n";
+      << "  up " << vec(up * (2.0 * tanHalf)) << "\n";
+    // The thin lens as focal blur (the header says how it maps).
+    if (camera.apertureRadius > 0)
+        s << "  aperture " << num(4.0 * camera.apertureRadius) << "\n"
+          << "  focal_point " << vec(camera.eye + forward * camera.focusDistanceOrDefault()) << "\n"
+          << "  blur_samples " << options.blurSamples << "\n"
+          << "  confidence 0.999 variance 0\n";
+    s << "}\n\n";
 
     for (const Light& light : scene.lights) s << lightSource(light);
     s << "\n";
@@ -340,6 +346,9 @@ std::vector<std::string> povrayInexactMappings(const Scene& scene) {
                 notes.push_back(where(scene, object) +
                                 ": fresnel (Schlick's approximation here, the full Fresnel equations in POV-Ray; "
                                 "not exported)");
+            if (m.roughness > 0.0)
+                notes.push_back(where(scene, object) +
+                                ": roughness (POV-Ray reflects and refracts sharply; exported as a mirror)");
             if (m.transmissionColor != glm::dvec3(1.0))
                 notes.push_back(where(scene, object) + ": a transmission_color (not exported)");
             if (m.emission != glm::dvec3(0.0))

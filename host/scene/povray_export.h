@@ -41,6 +41,16 @@
 //   shadows of glass   pigment { rgbft <Cd, kt·kd, kt·(1-kd)> }: POV-Ray
 //                      filters a shadow ray at each surface crossing by
 //                      filter·Cd + transmit = kt·mix(white, Cd, kd), as ours
+//   thin lens          focal_blur: aperture 4·radius (POV-Ray offsets the eye
+//                      by aperture/2 times a point of a disc of radius 1/2,
+//                      tracepixel.cpp JitterCameraRay), focal_point on the
+//                      view axis at the focus distance (POV-Ray focuses on
+//                      the plane at |focal_point - location| along the axis),
+//                      blur_samples PovrayExportOptions::blurSamples, all of
+//                      them traced (variance 0)
+// What does not: glossy reflection and refraction (roughness): POV-Ray's
+// reflection and refraction are always sharp (its blurred reflection needs
+// a micro-normal pattern and averaged textures); exported as the mirror.
 // What does not: the look of a transparent surface (POV-Ray scales its local
 // terms by the pigment's opacity and filters refracted light by the pigment,
 // where we weight it by kt alone); exported approximately, with
@@ -60,6 +70,7 @@ struct PovrayExportOptions {
     int height = 0;
     int maxDepth = 6;  // secondary bounces, as RenderSettings::maxDepth
     bool shadows = true;  // false: every object gets no_shadow (a control for tests)
+    int blurSamples = 64;  // focal blur rays per pixel (a camera with a lens)
 };
 
 // POV-Ray SDL for the whole scene. The coordinates are kept as they are

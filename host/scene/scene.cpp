@@ -2,6 +2,8 @@
 
 #include "scene/xml_reader.h"
 
+#include <limits>
+
 namespace whitted {
 
 CameraFrameProblem cameraFrameProblem(const Camera& camera) {
@@ -20,6 +22,13 @@ bool rectEdgesSpan(const glm::dvec3& u, const glm::dvec3& v) {
     constexpr double kParallelTolerance = 1e-6;
     double lu = glm::length(u), lv = glm::length(v);
     return lu > 0.0 && lv > 0.0 && glm::length(glm::cross(u / lu, v / lv)) >= kParallelTolerance;
+}
+
+double Camera::focusDistanceOrDefault() const { return focusDistance.value_or(glm::length(windowCenter - eye)); }
+
+double glossyLobeExponent(double roughness) {
+    double alpha = roughness * roughness;
+    return alpha > 0 ? 2.0 / (alpha * alpha) - 2.0 : std::numeric_limits<double>::infinity();
 }
 
 size_t csgLeafCount(const Csg& csg) {

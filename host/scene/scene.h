@@ -52,6 +52,14 @@ struct Camera {
         bool operator==(const Intrinsics&) const = default;
     };
     std::optional<Intrinsics> intrinsics;
+    // Depth of field (scenes/README.md "Depth of field"): a thin lens of
+    // this radius (scene units) in the plane of right and up about eye,
+    // focused on the plane focusDistance along the view; 0 is a pinhole.
+    // Without a focus distance the lens focuses at the window centre's
+    // distance, |windowCenter - eye|.
+    double apertureRadius = 0.0;
+    std::optional<double> focusDistance;
+    double focusDistanceOrDefault() const;
 };
 
 // Whether a camera has an image frame: its eye and window centre apart, its
@@ -59,6 +67,12 @@ struct Camera {
 // this says, each in its own words (device rays would be NaN).
 enum class CameraFrameProblem { None, EyeAtWindow, UpAlongView };
 CameraFrameProblem cameraFrameProblem(const Camera& camera);
+
+// The Phong exponent of a glossy material's reflection and refraction lobes:
+// 2 / alpha^2 - 2 with alpha = roughness^2 (Walter et al. 2007's match of a
+// Phong exponent to a Beckmann width; roughness as glTF's perceptual one).
+// Infinite at 0 (a mirror), 0 at 1 (cos^0: the whole hemisphere).
+double glossyLobeExponent(double roughness);
 
 // A light (scenes/README.md "Scene files"): the seed's point light, and the
 // spot and directional lights of glTF's KHR_lights_punctual and POV-Ray.
@@ -110,6 +124,10 @@ struct Material {
     double reflection = 0.0;            // kr (defaults to ks when reflective)
     double transmission = 0.0;          // kt
     double ior = 1.0;                   // index of refraction against air
+    // Glossy reflection and refraction (scenes/README.md "Shading model"):
+    // in [0, 1], 0 a perfect mirror; the rays follow a Phong lobe of
+    // exponent glossyLobeExponent(roughness) about the ideal direction.
+    double roughness = 0.0;
     // Solid checker (POV-Ray's checker pigment scaled by checkerSize): the
     // cell floor((p - checkerOrigin) / size + 0.001) with an odd sum of its
     // coordinates takes checkerColor instead of Cd. checkerSize 0: none.

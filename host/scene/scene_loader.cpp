@@ -46,7 +46,8 @@ const std::vector<std::string_view> kMaterialProperties = {
     "refraction_coef", "transmission_coef", "specular_coef", "diffuse_coef", "ambiente_coef", "reflective",
     "shininess",       "reflection_coef",   "checker_color", "checker_size", "absorption",
     "diffuse_texture", "texture_scale",   "normal_map",    "normal_strength", "fresnel",
-    "transmission_color", "emission", "emission_texture", "ambient_color"};
+    "transmission_color", "emission", "emission_texture", "ambient_color",
+    "roughness"};
 
 // <properties>: the seed's material elements, the extensions, then the
 // shape elements (each applies to some types only; see readShape).
@@ -71,6 +72,7 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"emission"},
                                                {"emission_texture"},
                                                {"ambient_color"},
+                                               {"roughness"},
                                                {"radius"},
                                                {"height"},
                                                {"axis"},
@@ -121,7 +123,7 @@ private:
     Camera readCamera(const XMLElement* e) const {
         ElementReader c(diag_, e,
                         {{"position"}, {"window_position"}, {"up"}, {"fov"}, {"window_height"}, {"width"}, {"height"}, {"projection"},
-                         {"intrinsics"}});
+                         {"intrinsics"}, {"aperture_radius"}, {"focus_distance"}});
         Camera camera;
         camera.eye = vector(diag_, c.required("position"));
         camera.windowCenter = vector(diag_, c.required("window_position"));
@@ -187,6 +189,9 @@ private:
             camera.intrinsics = Camera::Intrinsics{.fx = v[0], .fy = v[1], .cx = v[2], .cy = v[3]};
             camera.verticalFovDegrees = intrinsicsVerticalFov(*camera.intrinsics, camera.height);
         }
+        // Depth of field: a thin lens (scenes/README.md "Depth of field").
+        if (const XMLElement* a = c.optional("aperture_radius")) camera.apertureRadius = number(diag_, a, kNonNegative);
+        if (const XMLElement* f = c.optional("focus_distance")) camera.focusDistance = number(diag_, f, kPositive);
         return camera;
     }
 
@@ -543,6 +548,7 @@ private:
             m.transmissionColor = colour(diag_, c, kUnitInterval);
         if (const XMLElement* c = properties.optional("emission")) m.emission = colour(diag_, c, kNonNegative);
         if (const XMLElement* c = properties.optional("ambient_color")) m.ambientColor = colour(diag_, c, kUnitInterval);
+        if (const XMLElement* r = properties.optional("roughness")) m.roughness = number(diag_, r, kUnitInterval);
         return m;
     }
 

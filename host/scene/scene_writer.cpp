@@ -73,6 +73,9 @@ void writeCamera(XmlOut& x, const Camera& c) {
     if (k)
         x.line("<intrinsics fx=\"" + xmlNumber(c.intrinsics->fx) + "\" fy=\"" + xmlNumber(c.intrinsics->fy) + "\" cx=\"" +
                xmlNumber(c.intrinsics->cx) + "\" cy=\"" + xmlNumber(c.intrinsics->cy) + "\"/>");
+    // A pinhole (the default) writes no lens.
+    if (c.apertureRadius > 0) x.value("aperture_radius", c.apertureRadius);
+    if (c.focusDistance) x.value("focus_distance", *c.focusDistance);
     x.close("camera");
 }
 
@@ -131,6 +134,7 @@ void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& pla
     if (m.transmissionColor != glm::dvec3(1)) x.colour("transmission_color", m.transmissionColor);
     if (m.emission != glm::dvec3(0)) x.colour("emission", m.emission);
     if (m.ambientColor) x.colour("ambient_color", *m.ambientColor);
+    if (m.roughness > 0) x.value("roughness", m.roughness);
     // Texture files, relative to the written file's folder. (A model file's
     // own texture has no path to write: the file is written again as its
     // <file>, without a colour, and brings it back.)

@@ -54,6 +54,12 @@ void CameraController::apply() {
     changed_ = true;
 }
 
+void CameraController::setLens(double apertureRadius, std::optional<double> focusDistance) {
+    camera_.apertureRadius = home_.apertureRadius = apertureRadius;
+    camera_.focusDistance = home_.focusDistance = focusDistance;
+    changed_ = true;
+}
+
 void CameraController::orbit(double dx, double dy) {
     yaw_ += dx * kOrbitRadiansPerPixel;
     pitch_ = std::clamp(pitch_ - dy * kOrbitRadiansPerPixel, -kMaxPitch, kMaxPitch);

@@ -26,6 +26,8 @@ public:
     void fly(const glm::dvec3& direction, double seconds);
 
     const Camera& camera() const { return camera_; }
+    // The lens (depth of field) from the editor panel; the pose stays.
+    void setLens(double apertureRadius, std::optional<double> focusDistance);
     // True once after any change; the caller restarts accumulation.
     bool takeChanged();
 

@@ -236,6 +236,7 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         result.changed |= editScalar("reflection kr", m.reflection, 0, 1);
         result.changed |= editScalar("transmission kt", m.transmission, 0, 1);
         result.changed |= editScalar("IOR (refraction_coef)", m.ior, 1, 3);
+        result.changed |= editScalar("roughness", m.roughness, 0, 1);
         // The checker (<checker_color>, <checker_size>): switched on, size
         // 1 from checkerAnchor; switched off, size 0.
         bool checker = m.checkerSize > 0;
@@ -281,6 +282,18 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         if (result.changed) syncModelParts(scene, state.selectedObject, shapeReferencePoint(o.shape) - before);
     } else {
         ImGui::TextDisabled("select a light or an object");
+    }
+    // The camera's thin lens (scenes/README.md "Depth of field"), last so that it moves nothing above: aperture
+    // 0 is a pinhole; the focus distance, once edited, no longer follows the window's distance.
+    ImGui::Separator();
+    if (ImGui::CollapsingHeader("Camera lens")) {
+        Camera& c = scene.camera;
+        result.lensChanged |= editScalar("aperture radius", c.apertureRadius, 0, 1);
+        double focus = c.focusDistanceOrDefault();
+        if (editScalar("focus distance", focus, 0.01, 100)) {
+            c.focusDistance = focus;
+            result.lensChanged = true;
+        }
     }
     ImGui::End();
     return result;

@@ -35,6 +35,7 @@ struct EditorState {
 struct EditorResult {
     bool changed = false;        // the scene was edited; re-upload it
     bool saveRequested = false;  // "Save" was pressed
+    bool lensChanged = false;    // the camera's lens (aperture radius, focus distance) was edited
 };
 
 EditorResult drawEditorPanel(Scene& scene, EditorState& state);

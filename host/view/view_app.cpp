@@ -354,7 +354,9 @@ void ViewApp::checkReload() {
         bool cameraChanged =
             fresh.camera.eye != scene_.camera.eye || fresh.camera.windowCenter != scene_.camera.windowCenter ||
             fresh.camera.up != scene_.camera.up || fresh.camera.verticalFovDegrees != scene_.camera.verticalFovDegrees ||
-            fresh.camera.intrinsics != scene_.camera.intrinsics;
+            fresh.camera.intrinsics != scene_.camera.intrinsics ||
+            fresh.camera.apertureRadius != scene_.camera.apertureRadius ||
+            fresh.camera.focusDistance != scene_.camera.focusDistance;
         scene_ = std::move(fresh);
         watchTextures();
         if (cameraChanged) camera_.setHome(scene_.camera, sceneRadius(scene_));
@@ -446,6 +448,7 @@ ViewOutcome ViewApp::run() {
         imgui_.newFrame();
         EditorResult edit = drawEditorPanel(scene_, editor_);
         if (edit.changed) uploadScene("edited in the panel");
+        if (edit.lensChanged) camera_.setLens(scene_.camera.apertureRadius, scene_.camera.focusDistance);
         if (edit.saveRequested) guarded([&] { saveScene(); });
         if (camera_.takeChanged()) {
             renderer_.setCamera(camera_.camera());

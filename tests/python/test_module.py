@@ -204,6 +204,12 @@ def test_bad_options_raise_value_error(renderer, options, words):
     ("camera", "width", 0, r"Camera\.width"),
     ("camera", "projection", "fisheye", r"Camera\.projection: must be 'perspective' or 'orthographic', got 'fisheye'"),
     ("camera", "window_height", 0, r"Camera\.window_height"),
+    ("camera", "aperture_radius", -0.1, r"Camera\.aperture_radius"),
+    ("camera", "aperture_radius", float("nan"), r"Camera\.aperture_radius"),
+    ("camera", "focus_distance", 0, r"Camera\.focus_distance"),
+    ("camera", "focus_distance", "far", r"Camera\.focus_distance: must be a number or None"),
+    ("object", "roughness", 1.5, r"Object\.roughness: must be in \[0, 1\], got 1\.5"),
+    ("object", "roughness", -0.1, r"Object\.roughness"),
     ("camera", "up", (0, 0, 0), r"Camera\.up"), ("light", "intensity", -1, r"Light\.intensity"),
 ])
 def test_bad_field_values_raise_value_error(target, field, value, words):
@@ -244,6 +250,36 @@ def test_camera_frame_and_projection(tmp_path):
     assert np.array_equal(image, read_exr(tmp_path / "x.exr"))
     assert not np.array_equal(image, whitted.render(whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml"),
                                                     aovs="none", **SIZE).image)
+
+
+# Depth of field and glossy reflection from Python (scenes/README.md "Depth of field"): the lens and the
+# roughness are saved and loaded back, render as `whitted render` renders the saved file, and change the image.
+def test_lens_and_roughness(tmp_path):
+    scene = whitted.load(ROOT / "scenes" / "one_mirror.xml")
+    camera = scene.camera
+    look = sum((b - a) ** 2 for a, b in zip(camera.position, camera.look_at)) ** 0.5
+    assert camera.aperture_radius == 0 and camera.focus_distance == pytest.approx(look)
+    camera.aperture_radius = 0.15
+    camera.focus_distance = 4.0
+    mirror = next(o for o in scene.objects if o.reflection > 0)
+    mirror.roughness = 0.3
+    assert whitted.Material(roughness=0.2).roughness == 0.2
+    scene.save(tmp_path / "lens.xml")
+    reloaded = whitted.load(tmp_path / "lens.xml")
+    assert (reloaded.camera.aperture_radius, reloaded.camera.focus_distance) == (0.15, 4.0)
+    assert max(o.roughness for o in reloaded.objects) == 0.3
+    status, err = run_cli("render", tmp_path / "lens.xml", "-o", tmp_path / "x.exr", "--width", 64, "--height", 48,
+                          "--aov", "none", "-q")
+    assert status == 0, err
+    image = whitted.render(scene, aovs="none", **SIZE).image
+    assert np.array_equal(image, read_exr(tmp_path / "x.exr"))
+    camera.focus_distance = None
+    assert camera.focus_distance == pytest.approx(look)
+    camera.aperture_radius = 0
+    mirror.roughness = 0
+    plain = whitted.render(whitted.load(ROOT / "scenes" / "one_mirror.xml"), aovs="none", **SIZE).image
+    assert np.array_equal(whitted.render(scene, aovs="none", **SIZE).image, plain)
+    assert not np.array_equal(image, plain)
 
 
 def rss_mib():
