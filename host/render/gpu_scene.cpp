@@ -206,6 +206,8 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     csg.firstMaterial = uint32_t(scene.objects.size());
     bool attributes = std::any_of(scene.objects.begin(), scene.objects.end(), needsAttributes);
     if (attributes) g.attributes.reserve(count);
+    g.primitiveInObject.reserve(count);
+    std::vector<uint32_t> leafInObject;  // csg.leaves' share of primitiveInObject
     for (const Object& object : scene.objects) {
         uint32_t material = uint32_t(g.materials.size());
         g.materials.push_back(packMaterial(object.material, g.textures));
@@ -217,11 +219,15 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
             size_t firstLeaf = csg.leaves.size();
             primitives.push_back(packCsg(*c, material, csg));
             bounds.push_back(boundsCsg(*c));
-            for (size_t k = firstLeaf; k < csg.leaves.size(); ++k) csg.leaves[k].extra1 = objectIndex;
+            for (size_t k = firstLeaf; k < csg.leaves.size(); ++k) {
+                csg.leaves[k].extra1 = objectIndex;
+                leafInObject.push_back(uint32_t(k - firstLeaf));
+            }
         } else {
             appendPrimitives(object.shape, material, primitives, bounds);
             for (size_t k = first; k < primitives.size(); ++k) primitives[k].extra1 = objectIndex;
         }
+        for (size_t k = first; k < primitives.size(); ++k) g.primitiveInObject.push_back(uint32_t(k - first));
         if (!attributes) continue;
         if (needsAttributes(object)) {
             const Mesh& mesh = std::get<Mesh>(object.shape);
@@ -280,6 +286,10 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
         std::vector<uint32_t> sourceCopy = source;
         permuteInPlace(g.attributes, sourceCopy);
     }
+    {
+        std::vector<uint32_t> sourceCopy = source;
+        permuteInPlace(g.primitiveInObject, sourceCopy);
+    }
     permuteInPlace(g.primitives, source);
     // The csg leaves after every other primitive; each csg primitive's a.w
     // becomes the index of its first leaf there.
@@ -287,6 +297,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     for (gpu::Primitive& p : g.primitives)
         if (p.shape == gpu::kShapeCsg) p.a.w = glm::uintBitsToFloat(leafBase + glm::floatBitsToUint(p.a.w));
     g.primitives.insert(g.primitives.end(), csg.leaves.begin(), csg.leaves.end());
+    g.primitiveInObject.insert(g.primitiveInObject.end(), leafInObject.begin(), leafInObject.end());
     g.csgNodes = std::move(csg.nodes);
     g.lights = packShading(scene).lights;
 
