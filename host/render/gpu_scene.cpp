@@ -133,6 +133,28 @@ bool needsAttributes(const Object& object) {
     return mesh && !mesh->uvs.empty() && object.material.textured();
 }
 
+
+// items[k] = old items[source[k]] for every k, following the permutation's
+// cycles (source is left as the identity).
+template <typename T>
+void permuteInPlace(std::vector<T>& items, std::vector<uint32_t>& source) {
+    for (uint32_t start = 0; start < source.size(); ++start) {
+        if (source[start] == start) continue;
+        T carried = items[start];
+        uint32_t k = start;
+        while (source[k] != start) {
+            uint32_t next = source[k];
+            items[k] = items[next];
+            source[k] = k;
+            k = next;
+        }
+        items[k] = carried;
+        source[k] = k;
+    }
+}
+
+}  // namespace
+
 // Camera frame: image right = cross(forward, up), right and up scaled to the
 // half extents of the window at unit distance.
 void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p) {
@@ -164,27 +186,6 @@ void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p
     p.right = glm::vec3(right * halfHeight * aspect);
     p.up = glm::vec3(up * halfHeight);
 }
-
-// items[k] = old items[source[k]] for every k, following the permutation's
-// cycles (source is left as the identity).
-template <typename T>
-void permuteInPlace(std::vector<T>& items, std::vector<uint32_t>& source) {
-    for (uint32_t start = 0; start < source.size(); ++start) {
-        if (source[start] == start) continue;
-        T carried = items[start];
-        uint32_t k = start;
-        while (source[k] != start) {
-            uint32_t next = source[k];
-            items[k] = items[next];
-            source[k] = k;
-            k = next;
-        }
-        items[k] = carried;
-        source[k] = k;
-    }
-}
-
-}  // namespace
 
 GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     GpuScene g;

@@ -39,6 +39,10 @@ struct GpuScene {
 
 GpuScene packScene(const Scene& scene, const RenderSettings& settings);
 
+// The camera's fields of FrameParams (eye, projection, forward, right, up)
+// for a width x height image: what shaders/camera.glsl's generateCameraRay reads.
+void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p);
+
 // Only the materials (and the texture slots they name) and the lights of
 // packScene, without the shapes or their BVH: what a material or light edit
 // re-uploads (Renderer::setMaterials, setLights).

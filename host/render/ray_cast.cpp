@@ -43,6 +43,13 @@ glm::uvec2 addressWords(vk::DeviceAddress a) { return {uint32_t(a), uint32_t(a >
 
 }  // namespace
 
+CameraRay generateCameraRay(const gpu::FrameParams& camera, glm::dvec2 pixel, glm::dvec2 imageSize) {
+    glm::dvec2 ndc(2.0 * pixel.x / imageSize.x - 1.0, 1.0 - 2.0 * pixel.y / imageSize.y);
+    glm::dvec3 eye(camera.eye), forward(camera.forward), right(camera.right), up(camera.up);
+    if (camera.projection == gpu::kProjectionOrthographic) return {eye + ndc.x * right + ndc.y * up, forward};
+    return {eye, glm::normalize(forward + ndc.x * right + ndc.y * up)};
+}
+
 void checkCastRays(const CastRays& rays) {
     auto bad = [](const std::string& what) { throw std::invalid_argument(what); };
     if (rays.origins.size() % 3 != 0) bad("origins: must hold 3 numbers a ray");

@@ -14,6 +14,8 @@
 #include "vk/compute_pipeline.h"
 #include "vk/context.h"
 
+#include <glm/glm.hpp>
+
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -40,6 +42,18 @@ struct CastResult {
 };
 
 inline constexpr uint32_t kCastBandRays = 1u << 20;
+
+// The tracer's camera ray through the point `pixel` of an image of
+// `imageSize`, in its pixel units: origin at the image's top-left corner, x
+// right, y down, so pixel (i, j)'s centre is (i + 0.5, j + 0.5), the point
+// the object_id mask's ray goes through. `camera`: the fields packCamera
+// (render/gpu_scene.h) sets for that size. The C++ twin of
+// generateCameraRay (shaders/camera.glsl), in double; the direction is unit.
+struct CameraRay {
+    glm::dvec3 origin;
+    glm::dvec3 direction;
+};
+CameraRay generateCameraRay(const gpu::FrameParams& camera, glm::dvec2 pixel, glm::dvec2 imageSize);
 
 // Throws std::invalid_argument naming the argument and the ray ("directions:
 // row 3 has length 0") unless every number is finite (tMax may be
