@@ -191,6 +191,37 @@ def test_mesh_triangles_are_numbered_as_their_faces(renderer):
     np.testing.assert_allclose(under["normal"][:, 1], 1.0, atol=1e-6)
 
 
+CSG_SCENE = """<scene><camera><position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/><up x="0" y="1" z="0"/>
+<fov>60</fov><width>32</width><height>24</height></camera><ambient_light r="0" g="0" b="0"/><lights></lights>
+<objects>
+ <object><name>ball</name><position x="-4" y="0" z="0"/><properties><type>sphere</type><radius>0.5</radius></properties>
+ </object>
+ <object><name>bitten</name><properties><type>csg</type><operation>difference</operation></properties>
+  <objects>
+   <object><position x="-1" y="-1" z="-1"/><properties><type>box</type><size x="2" y="2" z="2"/></properties></object>
+   <object><position x="1" y="0" z="0"/><properties><type>sphere</type><radius>0.5</radius></properties></object>
+   <object><position x="0" y="0" z="0"/>
+    <properties><type>cylinder</type><radius>0.3</radius><height>2</height><axis x="0" y="1" z="0"/></properties>
+   </object>
+  </objects>
+ </object>
+</objects></scene>"""
+
+
+def test_csg_hits_name_the_leaf_struck(renderer):
+    """A csg object's primitive_id is the place of the leaf struck among its leaves, in the order the file lists
+    them (the box 0, the bite 1, the drill 2); its normal is the solid's outward one (out of the cavities)."""
+    scene = whitted.loads(CSG_SCENE)
+    origins = np.array([[5, 0, 0], [5, 0.8, 0], [0, 5, 0], [0, 5, 0.6]], dtype=float)
+    directions = np.array([[-1, 0, 0], [-1, 0, 0], [0, -1, 0], [0, -1, 0]], dtype=float)
+    hits = renderer.cast_rays(scene, origins, directions)
+    ids = names(renderer, scene)
+    assert [ids[k] for k in hits["object_id"]] == ["bitten"] * 4
+    np.testing.assert_array_equal(hits["primitive_id"], [1, 0, 2, 0])
+    np.testing.assert_allclose(hits["t"], [4.5, 4.0, 5.0, 4.0], rtol=1e-6)
+    np.testing.assert_allclose(hits["normal"], [[1, 0, 0], [1, 0, 0], [0, 1, 0], [0, 1, 0]], atol=1e-6)
+
+
 BAD = [
     (dict(origins=np.zeros((4, 2))), "origins: must be an \\(N, 3\\) array, got shape \\(4, 2\\)"),
     (dict(origins=np.zeros(3)), "origins: must be an \\(N, 3\\) array, got shape \\(3\\)"),
