@@ -14,7 +14,9 @@ layout(std430, set = 0, binding = kBindingCounters) buffer CounterBlock { RayCou
 layout(std430, set = 0, binding = kBindingPixelList) readonly buffer PixelListBlock { uint pixelList[]; };
 layout(std430, set = 0, binding = kBindingGuide) writeonly buffer GuideBlock { uvec4 guide[]; };
 layout(std430, set = 0, binding = kBindingSampleStats) buffer StatsBlock { uvec4 sampleStats[]; };
+#ifndef WHITTED_NO_TILE_PARAMS  // a shader with push constants of its own (shaders/cast_rays.comp)
 layout(push_constant) uniform TileBlock { TileParams tileParams; };
+#endif
 #ifdef WHITTED_RAY_QUERY
 // The scene's top-level acceleration structure (shaders/ray_query.glsl).
 layout(set = 0, binding = kBindingTlas) uniform accelerationStructureEXT sceneTlas;

@@ -3,9 +3,17 @@
 // (scene/camera_matrices.h; host/python/README.md "Cameras from matrices").
 // Added to the Camera class scene_api.cpp makes.
 #include "python/python_api.h"
+#include "render/gpu_scene.h"
+#include "render/ray_cast.h"
 #include "scene/camera_matrices.h"
 
 #include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <optional>
+#include <utility>
+#include <vector>
 
 #include <stdexcept>
 #include <string>
@@ -110,6 +118,54 @@ void addCameraApi(py::module_& m) {
                 v.edited();
             },
             "Drops the K of set_from_matrices: the fov gives the window again (the pose stays)")
+        .def(
+            "rays",
+            [](const CameraView& v, std::optional<int> widthArg, std::optional<int> heightArg,
+               const py::object& pixelsArg) {
+                int width = widthArg.value_or(v.c().width), height = heightArg.value_or(v.c().height);
+                for (auto [name, side] : {std::pair{"width", width}, std::pair{"height", height}})
+                    if (side < 1 || side > int(gpu::kMaxImageSide))
+                        throw py::value_error(std::string(name) + ": must be in 1.." +
+                                              std::to_string(gpu::kMaxImageSide) + ", got " + std::to_string(side));
+                std::vector<glm::dvec2> pixels;
+                if (pixelsArg.is_none()) {
+                    for (int y = 0; y < height; ++y)
+                        for (int x = 0; x < width; ++x) pixels.emplace_back(x + 0.5, y + 0.5);
+                } else {
+                    Matrix p;
+                    try {
+                        p = pixelsArg.cast<Matrix>();
+                    } catch (const std::exception&) {
+                        throw py::value_error("pixels: must be an (N, 2) array of numbers");
+                    }
+                    if (p.ndim() != 2 || p.shape(1) != 2) throw py::value_error("pixels: must be an (N, 2) array");
+                    for (py::ssize_t i = 0; i < p.shape(0); ++i) {
+                        if (!std::isfinite(p.at(i, 0)) || !std::isfinite(p.at(i, 1)))
+                            throw py::value_error("pixels: row " + std::to_string(i) + " is not finite");
+                        pixels.emplace_back(p.at(i, 0), p.at(i, 1));
+                    }
+                }
+                gpu::FrameParams params;
+                packCamera(v.c(), width, height, params);
+                py::ssize_t n = py::ssize_t(pixels.size());
+                py::array_t<double> origins({n, py::ssize_t(3)}), directions({n, py::ssize_t(3)});
+                auto o = origins.mutable_unchecked<2>();
+                auto d = directions.mutable_unchecked<2>();
+                for (py::ssize_t i = 0; i < n; ++i) {
+                    CameraRay ray = generateCameraRay(params, pixels[size_t(i)], glm::dvec2(width, height));
+                    for (int c = 0; c < 3; ++c) {
+                        o(i, c) = ray.origin[c];
+                        d(i, c) = ray.direction[c];
+                    }
+                }
+                return py::make_tuple(origins, directions);
+            },
+            py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("pixels") = py::none(),
+            "The rays the renderer traces through points of a width x height image (default: the camera's size), "
+            "for Renderer.cast_rays: (origins, directions), each (N, 3) float64, directions unit. pixels: (N, 2) "
+            "points (x, y) in the renderer's pixel units: origin at the image's top-left corner, x right, y down, "
+            "so pixel (i, j)'s centre is (i + 0.5, j + 0.5) and K's (u, v) is (u + 0.5, v + 0.5). None: every "
+            "pixel's centre, row by row from the top (N = width * height), the rays of the object_id mask.")
         .def(
             "copy",
             [](const CameraView& v) {

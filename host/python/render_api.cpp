@@ -9,6 +9,7 @@
 #include "output/aov_output.h"
 #include "output/render_record.h"
 #include "python/python_api.h"
+#include "render/ray_cast.h"
 #include "render/renderer.h"
 #include "vk/context.h"
 
@@ -23,6 +24,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <unistd.h>
@@ -67,10 +69,31 @@ private:
 };
 
 // A numpy array that owns `values` (moved into a capsule): no copy.
-py::array_t<float> ownedArray(std::vector<float>&& values, std::vector<py::ssize_t> shape) {
-    auto* held = new std::vector<float>(std::move(values));
-    py::capsule owner(held, [](void* p) { delete static_cast<std::vector<float>*>(p); });
-    return py::array_t<float>(shape, held->data(), owner);
+template <typename T>
+py::array_t<T> ownedArray(std::vector<T>&& values, std::vector<py::ssize_t> shape) {
+    auto* held = new std::vector<T>(std::move(values));
+    py::capsule owner(held, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+    return py::array_t<T>(shape, held->data(), owner);
+}
+
+// cast_rays' origins or directions: an (N, 3) array of numbers as float64,
+// or ValueError naming the argument.
+using Rows = py::array_t<double, py::array::c_style | py::array::forcecast>;
+Rows rowsArg(const py::object& x, const char* name) {
+    Rows a;
+    try {
+        a = x.cast<Rows>();
+    } catch (const py::cast_error&) {
+        throw py::value_error(std::string(name) + ": must be an (N, 3) array of numbers");
+    } catch (const py::error_already_set&) {  // numpy could not make numbers of it
+        throw py::value_error(std::string(name) + ": must be an (N, 3) array of numbers");
+    }
+    if (a.ndim() != 2 || a.shape(1) != 3) {
+        std::string got;
+        for (py::ssize_t i = 0; i < a.ndim(); ++i) got += (i ? ", " : "") + std::to_string(a.shape(i));
+        throw py::value_error(std::string(name) + ": must be an (N, 3) array, got shape (" + got + ")");
+    }
+    return a;
 }
 
 // What whitted.devices() and Renderer.device give for a device.
@@ -349,6 +372,65 @@ public:
         return out;
     }
 
+    // What each ray hits first, found on the device by the tracer's own
+    // closest-hit query (render/ray_cast.h) in the scene this renderer
+    // holds: the uploaded one, brought up to the scene's edits, or a new
+    // upload when it holds another scene. Every argument is checked first.
+    py::dict castRays(const SceneRef& handle, const py::object& originsArg, const py::object& directionsArg,
+                      const py::object& tMaxArg) {
+        Rows origins = rowsArg(originsArg, "origins"), directions = rowsArg(directionsArg, "directions");
+        if (directions.shape(0) != origins.shape(0))
+            throw py::value_error("directions: " + std::to_string(directions.shape(0)) + " rows, but origins has " +
+                                  std::to_string(origins.shape(0)));
+        py::array_t<double, py::array::c_style | py::array::forcecast> tMax;
+        try {
+            tMax = tMaxArg.cast<py::array_t<double, py::array::c_style | py::array::forcecast>>();
+        } catch (const std::exception&) {
+            throw py::value_error("t_max: must be a number or an (N,) array of numbers");
+        }
+        if (tMax.ndim() > 1) throw py::value_error("t_max: must be a number or an (N,) array of numbers");
+        size_t n = size_t(origins.shape(0));
+        CastRays rays{.origins = std::span(origins.data(), 3 * n), .directions = std::span(directions.data(), 3 * n),
+                      .tMax = std::span(tMax.data(), size_t(tMax.size()))};
+        try {
+            checkCastRays(rays);
+        } catch (const std::invalid_argument& e) {
+            throw py::value_error(e.what());
+        }
+        Scene copy = *handle->scene;
+        const std::vector<uint64_t> objectIds = handle->objectIds;
+        Versions versions = handle->versions;
+        uint64_t id = handle->id;
+        CastResult hits;
+        {
+            py::gil_scoped_release release;
+            std::lock_guard lock(mutex_);
+            // The settings the scene is held with, or the smallest renderer
+            // (a 1x1 image without auxiliary layers) for a scene it lacks.
+            RenderSettings s = uploaded_.settings;
+            if (!renderer_ || id != uploaded_.sceneId) s = {.width = 1, .height = 1, .auxiliary = false};
+            upload(copy, versions, id, s);
+            if (!caster_) caster_ = std::make_unique<RayCaster>(*ctx_);
+            uint32_t messagesBefore = ctx_->validationMessageCount();
+            hits = caster_->cast(*renderer_, rays);
+            if (ctx_->validationMessageCount() != messagesBefore)
+                throw std::runtime_error("the Vulkan validation layer reported " +
+                                         std::to_string(ctx_->validationMessageCount() - messagesBefore) +
+                                         " message(s) during cast_rays");
+        }
+        // Object indices to the scene's stable ids, as the object_id mask's (stableObjectIds).
+        for (uint32_t& o : hits.object)
+            if (o != gpu::kNoObject) o = uint32_t(objectIds[o]);
+        py::ssize_t rows = py::ssize_t(n);
+        py::dict out;
+        out["t"] = ownedArray(std::move(hits.t), {rows});
+        out["object_id"] = ownedArray(std::move(hits.object), {rows});
+        out["primitive_id"] = ownedArray(std::move(hits.primitive), {rows});
+        out["normal"] = ownedArray(std::move(hits.normal), {rows, 3});
+        out["uv"] = ownedArray(std::move(hits.uv), {rows, 2});
+        return out;
+    }
+
     py::dict device() const { return deviceDict(ctx_->deviceInfo()); }
 
 private:
@@ -396,6 +478,7 @@ private:
 
     std::unique_ptr<VulkanContext> ctx_;
     std::unique_ptr<Renderer> renderer_;
+    std::unique_ptr<RayCaster> caster_;  // made on the first cast_rays
     Uploaded uploaded_;
     std::mutex mutex_;  // one render at a time per renderer
 };
@@ -484,6 +567,15 @@ void addRenderApi(py::module_& m) {
         .def(py::init<std::optional<std::string>>(), py::arg("device") = py::none(),
              "device: an index or a name substring as `whitted devices` lists them (None: the best)")
         .def_property_readonly("device", &PyRenderer::device)
+        .def("cast_rays", &PyRenderer::castRays, py::arg("scene"), py::arg("origins"), py::arg("directions"),
+             py::arg("t_max") = std::numeric_limits<double>::infinity(),
+             "What each ray origins[i] + t * directions[i], 0 < t < t_max, hits first in the scene, found on the "
+             "device by the renderer's own closest-hit query (host/python/README.md \"Ray casting\"). origins, "
+             "directions: (N, 3) float32 or float64 (directions of any nonzero length); t_max: a number or (N,), "
+             "in units of each direction. Returns a dict of numpy arrays: t (N,) float32 (inf: a miss), object_id "
+             "(N,) uint32 (the object_id mask's ids, 0xFFFFFFFF: a miss), primitive_id (N,) uint32 (a mesh's "
+             "triangle index, a csg object's leaf, else 0), normal (N, 3) float32 (the unit geometric normal, "
+             "outward), uv (N, 2) float32. Releases the GIL.")
         .def("render", &PyRenderer::render, py::arg("scene"), py::kw_only(), py::arg("width") = py::none(),
              py::arg("height") = py::none(), py::arg("spp") = 16, py::arg("aa") = "adaptive",
              py::arg("aa_threshold") = py::none(), py::arg("max_depth") = 6, py::arg("aovs") = py::tuple(),

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 
 namespace whitted {
@@ -76,5 +77,13 @@ ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, 
 // included).
 using Specialization = std::array<uint32_t, 4>;
 Specialization specializationFor(const GpuScene& scene);
+
+// A pipeline whose descriptor set layout is the tracer's along `trace`
+// (kTracerBindings, and gpu::kBindingTlas for ray queries), so that a
+// Renderer's descriptor set binds to it, specialised with `constants`: the
+// tracer itself and the builds that run beside it on its uploaded scene
+// (render/ray_tree.h, render/ray_cast.h).
+ComputePipeline createTracerPipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv, TracePath trace,
+                                     const Specialization& constants, uint32_t pushConstantSize);
 
 }  // namespace whitted

@@ -144,6 +144,28 @@ bool needsAttributes(const Object& object) {
     return mesh && !mesh->uvs.empty() && object.material.textured();
 }
 
+
+// items[k] = old items[source[k]] for every k, following the permutation's
+// cycles (source is left as the identity).
+template <typename T>
+void permuteInPlace(std::vector<T>& items, std::vector<uint32_t>& source) {
+    for (uint32_t start = 0; start < source.size(); ++start) {
+        if (source[start] == start) continue;
+        T carried = items[start];
+        uint32_t k = start;
+        while (source[k] != start) {
+            uint32_t next = source[k];
+            items[k] = items[next];
+            source[k] = k;
+            k = next;
+        }
+        items[k] = carried;
+        source[k] = k;
+    }
+}
+
+}  // namespace
+
 // Camera frame: image right = cross(forward, up), right and up scaled to the
 // half extents of the window at unit distance.
 void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p) {
@@ -178,27 +200,6 @@ void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p
     p.up = glm::vec3(up * halfHeight);
 }
 
-// items[k] = old items[source[k]] for every k, following the permutation's
-// cycles (source is left as the identity).
-template <typename T>
-void permuteInPlace(std::vector<T>& items, std::vector<uint32_t>& source) {
-    for (uint32_t start = 0; start < source.size(); ++start) {
-        if (source[start] == start) continue;
-        T carried = items[start];
-        uint32_t k = start;
-        while (source[k] != start) {
-            uint32_t next = source[k];
-            items[k] = items[next];
-            source[k] = k;
-            k = next;
-        }
-        items[k] = carried;
-        source[k] = k;
-    }
-}
-
-}  // namespace
-
 GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     GpuScene g;
     g.width = settings.width > 0 ? settings.width : scene.camera.width;
@@ -219,6 +220,8 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     csg.firstMaterial = uint32_t(scene.objects.size());
     bool attributes = std::any_of(scene.objects.begin(), scene.objects.end(), needsAttributes);
     if (attributes) g.attributes.reserve(count);
+    g.primitiveInObject.reserve(count);
+    std::vector<uint32_t> leafInObject;  // csg.leaves' share of primitiveInObject
     for (const Object& object : scene.objects) {
         uint32_t material = uint32_t(g.materials.size());
         g.materials.push_back(packMaterial(object.material, g.textures));
@@ -230,11 +233,15 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
             size_t firstLeaf = csg.leaves.size();
             primitives.push_back(packCsg(*c, material, csg));
             bounds.push_back(boundsCsg(*c));
-            for (size_t k = firstLeaf; k < csg.leaves.size(); ++k) csg.leaves[k].extra1 = objectIndex;
+            for (size_t k = firstLeaf; k < csg.leaves.size(); ++k) {
+                csg.leaves[k].extra1 = objectIndex;
+                leafInObject.push_back(uint32_t(k - firstLeaf));
+            }
         } else {
             appendPrimitives(object.shape, material, primitives, bounds);
             for (size_t k = first; k < primitives.size(); ++k) primitives[k].extra1 = objectIndex;
         }
+        for (size_t k = first; k < primitives.size(); ++k) g.primitiveInObject.push_back(uint32_t(k - first));
         if (!attributes) continue;
         if (needsAttributes(object)) {
             const Mesh& mesh = std::get<Mesh>(object.shape);
@@ -293,6 +300,10 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
         std::vector<uint32_t> sourceCopy = source;
         permuteInPlace(g.attributes, sourceCopy);
     }
+    {
+        std::vector<uint32_t> sourceCopy = source;
+        permuteInPlace(g.primitiveInObject, sourceCopy);
+    }
     permuteInPlace(g.primitives, source);
     // The csg leaves after every other primitive; each csg primitive's a.w
     // becomes the index of its first leaf there.
@@ -300,6 +311,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     for (gpu::Primitive& p : g.primitives)
         if (p.shape == gpu::kShapeCsg) p.a.w = glm::uintBitsToFloat(leafBase + glm::floatBitsToUint(p.a.w));
     g.primitives.insert(g.primitives.end(), csg.leaves.begin(), csg.leaves.end());
+    g.primitiveInObject.insert(g.primitiveInObject.end(), leafInObject.begin(), leafInObject.end());
     g.csgNodes = std::move(csg.nodes);
     g.lights = packShading(scene).lights;
 

@@ -23,6 +23,12 @@ struct GpuScene {
     std::vector<gpu::CsgNode> csgNodes;  // the csg objects' programs (empty: no csg)
     // One entry per primitive (same order) when a textured mesh needs them, else empty.
     std::vector<gpu::SurfaceAttributes> attributes;
+    // Each primitive's index among its object's, in the primitives' order
+    // (host only, for Renderer.cast_rays' primitive ids, render/ray_cast.h):
+    // a mesh's triangle index, a csg leaf's place among the csg object's
+    // leaves (in the order its tree lists them), 0 for any other shape and
+    // for a csg primitive itself.
+    std::vector<uint32_t> primitiveInObject;
     // The images of the kBindingTextures array, by slot (Material.diffuseTexture, normalMap).
     std::vector<std::shared_ptr<const TextureData>> textures;
     BvhStats bvhStats;
@@ -32,6 +38,10 @@ struct GpuScene {
 };
 
 GpuScene packScene(const Scene& scene, const RenderSettings& settings);
+
+// The camera's fields of FrameParams (eye, projection, forward, right, up)
+// for a width x height image: what shaders/camera.glsl's generateCameraRay reads.
+void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p);
 
 // Only the materials (and the texture slots they name) and the lights of
 // packScene, without the shapes or their BVH: what a material or light edit

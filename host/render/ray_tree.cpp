@@ -165,17 +165,10 @@ RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
     // layout made as the renderer's, so that its descriptor set binds here.
     std::pair<TracePath, Specialization> key{renderer.trace(), renderer.specialization()};
     if (builtFor_ != key) {
-        const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
-                                                      {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
-                                                      {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
-        vk::SpecializationInfo specialization{.mapEntryCount = 3, .pMapEntries = entries,
-                                              .dataSize = sizeof(key.second), .pData = key.second.data()};
-        std::vector<DescriptorBinding> bindings(std::begin(kTracerBindings), std::end(kTracerBindings));
-        bool rayQuery = key.first == TracePath::RayQuery;
-        if (rayQuery) bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});
-        std::span<const uint32_t> spirv = rayQuery ? std::span<const uint32_t>(kWhittedCompRayTreeRayQuerySpv)
-                                                   : std::span<const uint32_t>(kWhittedCompRayTreeSpv);
-        pipeline_ = createComputePipeline(ctx_, spirv, bindings, sizeof(gpu::TileParams), &specialization);
+        std::span<const uint32_t> spirv = key.first == TracePath::RayQuery
+                                              ? std::span<const uint32_t>(kWhittedCompRayTreeRayQuerySpv)
+                                              : std::span<const uint32_t>(kWhittedCompRayTreeSpv);
+        pipeline_ = createTracerPipeline(ctx_, spirv, key.first, key.second, sizeof(gpu::TileParams));
         builtFor_ = key;
     }
 

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <optional>
+#include <span>
 
 namespace whitted {
 
@@ -79,6 +80,8 @@ public:
     // tracer with: this renderer's descriptor set and specialization.
     vk::DescriptorSet descriptorSet() const { return *descriptorSet_; }
     const Specialization& specialization() const { return specialization_; }
+    // Each uploaded primitive's index among its object's (GpuScene::primitiveInObject).
+    std::span<const uint32_t> primitiveInObject() const { return scene_.primitiveInObject; }
 
 private:
     // Specialised for scene_, or with `constants` (and the tracer build kept)
