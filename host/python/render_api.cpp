@@ -7,9 +7,11 @@
 #include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "output/aov_output.h"
+#include "output/ray_tree_json.h"
 #include "output/render_record.h"
 #include "python/python_api.h"
 #include "render/ray_cast.h"
+#include "render/ray_tree.h"
 #include "render/renderer.h"
 #include "vk/context.h"
 
@@ -431,6 +433,50 @@ public:
         return out;
     }
 
+    // The ray tree of pixel (x, y): the dict `whitted trace --json` prints,
+    // with its settings (one centre sample, uniform). Checked before the
+    // device is touched.
+    py::object tracePixel(const SceneRef& handle, int x, int y, std::optional<int> width, std::optional<int> height,
+                          int maxDepth) {
+        const Scene& scene = *handle->scene;
+        auto bad = [](const std::string& what) { throw py::value_error(what); };
+        auto side = [&](const char* name, std::optional<int> v, int fallback) {
+            int n = v.value_or(fallback);
+            if (n < 1 || n > int(gpu::kMaxImageSide))
+                bad(std::string(name) + ": must be in 1.." + std::to_string(gpu::kMaxImageSide) + ", got " + std::to_string(n));
+            return n;
+        };
+        RenderSettings s;
+        s.width = side("width", width, scene.camera.width);
+        s.height = side("height", height, scene.camera.height);
+        if (maxDepth < 0 || maxDepth > int(gpu::kMaxDepthLimit))
+            bad("max_depth: must be in 0.." + std::to_string(gpu::kMaxDepthLimit) + ", got " + std::to_string(maxDepth));
+        if (x < 0 || x >= s.width) bad("x: " + std::to_string(x) + " is outside the " + std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
+        if (y < 0 || y >= s.height) bad("y: " + std::to_string(y) + " is outside the " + std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
+        s.maxDepth = maxDepth;
+        s.samplesPerPixel = 1;
+        s.antiAliasing = AntiAliasing::Uniform;
+        s.auxiliary = false;
+        s.bandBytes = 0;
+        Scene copy = scene;
+        Versions versions = handle->versions;
+        uint64_t id = handle->id;
+        std::string text;
+        {
+            py::gil_scoped_release release;
+            std::lock_guard lock(mutex_);
+            uint32_t messagesBefore = ctx_->validationMessageCount();
+            upload(copy, versions, id, s);
+            if (!recorder_) recorder_ = std::make_unique<RayTreeRecorder>(*ctx_);
+            text = rayTreeJson(recorder_->trace(*renderer_, x, y), copy);
+            if (ctx_->validationMessageCount() != messagesBefore)
+                throw std::runtime_error("the Vulkan validation layer reported " +
+                                         std::to_string(ctx_->validationMessageCount() - messagesBefore) +
+                                         " message(s) during this trace");
+        }
+        return py::module_::import("json").attr("loads")(text);
+    }
+
     py::dict device() const { return deviceDict(ctx_->deviceInfo()); }
 
 private:
@@ -479,6 +525,7 @@ private:
     std::unique_ptr<VulkanContext> ctx_;
     std::unique_ptr<Renderer> renderer_;
     std::unique_ptr<RayCaster> caster_;  // made on the first cast_rays
+    std::unique_ptr<RayTreeRecorder> recorder_;  // beside renderer_: trace_pixel
     Uploaded uploaded_;
     std::mutex mutex_;  // one render at a time per renderer
 };
@@ -576,6 +623,10 @@ void addRenderApi(py::module_& m) {
              "(N,) uint32 (the object_id mask's ids, 0xFFFFFFFF: a miss), primitive_id (N,) uint32 (a mesh's "
              "triangle index, a csg object's leaf, else 0), normal (N, 3) float32 (the unit geometric normal, "
              "outward), uv (N, 2) float32. Releases the GIL.")
+        .def("trace_pixel", &PyRenderer::tracePixel, py::arg("scene"), py::arg("x"), py::arg("y"), py::kw_only(),
+             py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("max_depth") = 6,
+             "The ray tree behind pixel (x, y) (the options of `whitted trace`): the dict `whitted trace --json` "
+             "prints. Bad values raise ValueError naming the argument before the device is touched")
         .def("render", &PyRenderer::render, py::arg("scene"), py::kw_only(), py::arg("width") = py::none(),
              py::arg("height") = py::none(), py::arg("spp") = 16, py::arg("aa") = "adaptive",
              py::arg("aa_threshold") = py::none(), py::arg("max_depth") = 6, py::arg("aovs") = py::tuple(),
