@@ -281,15 +281,18 @@ TEST(AreaLight, RadiusZeroChangesNoPixelOfAnyScene) {
         int lights = 0;
         while ((at = xml.find("</light>", from)) != std::string::npos) {
             size_t open = xml.rfind("<light>", at);
-            bool directional = xml.substr(open, at - open).find("directional") != std::string::npos;
-            withRadius += xml.substr(from, at - from) + (directional ? "" : "<radius>0</radius>");
-            lights += !directional;
+            // Directional lights take no radius; an area light (scenes/soft.xml) has its own already.
+            std::string light = xml.substr(open, at - open);
+            bool point = light.find("directional") == std::string::npos && light.find("<radius>") == std::string::npos &&
+                         light.find("rect") == std::string::npos;
+            withRadius += xml.substr(from, at - from) + (point ? "<radius>0</radius>" : "");
+            lights += point;
             from = at;
             withRadius += "</light>";
             from += std::strlen("</light>");
         }
         withRadius += xml.substr(from);
-        ASSERT_GT(lights, 0) << entry.path();
+        if (lights == 0) continue;  // only area lights
         Scene plain = loadSceneFromString(xml, entry.path());
         Scene explicitZero = loadSceneFromString(withRadius, entry.path());
         RenderResult a = renderScene(plain, s), b = renderScene(explicitZero, s);

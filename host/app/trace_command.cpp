@@ -1,5 +1,6 @@
-// `whitted trace SCENE --pixel X,Y`: the ray tree behind one pixel
-// (render/ray_tree.h), as indented text or, with --json, the full record.
+// `whitted trace SCENE --pixel X,Y [--pixel X,Y ...]`: the ray tree behind
+// each pixel (render/ray_tree.h), as indented text or, with --json, the full
+// record (several pixels: a JSON array of records, one device start).
 #include "app/cli_options.h"
 #include "app/commands.h"
 #include "scene/quick_look.h"
@@ -17,13 +18,15 @@
 #include <memory>
 #include <regex>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace whitted {
 namespace {
 
 struct TraceArguments {
     std::filesystem::path scene;
-    std::string pixel;
+    std::vector<std::string> pixels;
     int width = 0, height = 0;
     int maxDepth = 6;
     bool json = false;
@@ -32,13 +35,16 @@ struct TraceArguments {
 };
 
 int runTrace(const TraceArguments& args) {
-    std::smatch m;
     static const std::regex kPixel(R"(^\s*(\d+)\s*,\s*(\d+)\s*$)");
-    if (!std::regex_match(args.pixel, m, kPixel) || m[1].length() > 6 || m[2].length() > 6) {
-        std::cerr << "whitted: --pixel: expected X,Y (two integers), got '" << args.pixel << "'\n";
-        return kExitBadInput;
+    std::vector<std::pair<int, int>> pixels;
+    for (const std::string& pixel : args.pixels) {
+        std::smatch m;
+        if (!std::regex_match(pixel, m, kPixel) || m[1].length() > 6 || m[2].length() > 6) {
+            std::cerr << "whitted: --pixel: expected X,Y (two integers), got '" << pixel << "'\n";
+            return kExitBadInput;
+        }
+        pixels.emplace_back(std::stoi(m[1].str()), std::stoi(m[2].str()));
     }
-    int x = std::stoi(m[1].str()), y = std::stoi(m[2].str());
     Scene scene;
     try {
         scene = loadSceneOrModel(args.scene);
@@ -46,35 +52,30 @@ int runTrace(const TraceArguments& args) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
     }
-    RenderSettings settings;
-    settings.width = args.width;
-    settings.height = args.height;
-    settings.maxDepth = args.maxDepth;
-    settings.samplesPerPixel = 1;
-    settings.antiAliasing = AntiAliasing::Uniform;
-    settings.auxiliary = false;
-    settings.bandBytes = 0;
+    RenderSettings settings = rayTreeSettings(args.width, args.height, args.maxDepth);
     // The image's size is known before the device starts: refuse the pixel first.
     int width = args.width > 0 ? args.width : scene.camera.width;
     int height = args.height > 0 ? args.height : scene.camera.height;
-    if (x >= width || y >= height) {
-        std::cerr << "whitted: --pixel " << x << "," << y << " is outside the " << width << "x" << height
-                  << " image\n";
-        return kExitBadInput;
-    }
+    for (auto [x, y] : pixels)
+        if (x >= width || y >= height) {
+            std::cerr << "whitted: --pixel " << x << "," << y << " is outside the " << width << "x" << height
+                      << " image\n";
+            return kExitBadInput;
+        }
     VulkanContext ctx({.validation = args.validation, .deviceName = args.device});
     Renderer renderer(ctx, scene, settings);
     RayTreeRecorder recorder(ctx);
-    RayTree tree = recorder.trace(renderer, x, y);
+    std::vector<RayTree> trees;
+    for (auto [x, y] : pixels) trees.push_back(recorder.trace(renderer, x, y));
     if (ctx.validationMessageCount() > 0) {
         std::cerr << "whitted: the Vulkan validation layer reported " << ctx.validationMessageCount()
                   << " message(s)\n";
         return kExitValidation;
     }
     if (args.json)
-        std::cout << rayTreeJson(tree, scene);
+        std::cout << (trees.size() == 1 ? rayTreeJson(trees[0], scene) : rayTreesJson(trees, scene));
     else
-        std::cout << rayTreeText(tree, scene);
+        for (size_t i = 0; i < trees.size(); ++i) std::cout << (i > 0 ? "\n" : "") << rayTreeText(trees[i], scene);
     return kExitOk;
 }
 
@@ -82,9 +83,10 @@ int runTrace(const TraceArguments& args) {
 
 Command addTraceCommand(CLI::App& app) {
     auto args = std::make_shared<TraceArguments>();
-    auto* cmd = app.add_subcommand("trace", "print the ray tree behind one pixel, each ray with its share of the colour");
+    auto* cmd = app.add_subcommand("trace", "print the ray tree behind a pixel, each ray with its share of the colour");
     cmd->add_option("scene", args->scene, "scene XML file (.xml), or a model file")->required();
-    cmd->add_option("--pixel", args->pixel, "the pixel X,Y (0,0 the top left)")->required();
+    cmd->add_option("--pixel", args->pixels, "the pixel X,Y (0,0 the top left); again for more pixels (--json: an array)")
+        ->required();
     cmd->add_option("--width", args->width, "image width in pixels [scene's]")->check(CLI::Range(1, int(gpu::kMaxImageSide)));
     cmd->add_option("--height", args->height, "image height in pixels [scene's]")
         ->check(CLI::Range(1, int(gpu::kMaxImageSide)));

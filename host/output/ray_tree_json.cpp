@@ -85,4 +85,10 @@ nlohmann::json rayTreeJsonValue(const RayTree& tree, const Scene& scene) {
 
 std::string rayTreeJson(const RayTree& tree, const Scene& scene) { return rayTreeJsonValue(tree, scene).dump(2) + "\n"; }
 
+std::string rayTreesJson(const std::vector<RayTree>& trees, const Scene& scene) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const RayTree& tree : trees) all.push_back(rayTreeJsonValue(tree, scene));
+    return all.dump(2) + "\n";
+}
+
 }  // namespace whitted

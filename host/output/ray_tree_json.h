@@ -7,9 +7,13 @@
 #include "scene/scene.h"
 
 #include <string>
+#include <vector>
 
 namespace whitted {
 
 std::string rayTreeJson(const RayTree& tree, const Scene& scene);
+// Several pixels' trees (`whitted trace` with --pixel given more than once):
+// a JSON array of the records rayTreeJson writes, in the order given.
+std::string rayTreesJson(const std::vector<RayTree>& trees, const Scene& scene);
 
 }  // namespace whitted

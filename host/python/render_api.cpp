@@ -451,13 +451,10 @@ public:
         s.height = side("height", height, scene.camera.height);
         if (maxDepth < 0 || maxDepth > int(gpu::kMaxDepthLimit))
             bad("max_depth: must be in 0.." + std::to_string(gpu::kMaxDepthLimit) + ", got " + std::to_string(maxDepth));
-        if (x < 0 || x >= s.width) bad("x: " + std::to_string(x) + " is outside the " + std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
-        if (y < 0 || y >= s.height) bad("y: " + std::to_string(y) + " is outside the " + std::to_string(s.width) + "x" + std::to_string(s.height) + " image");
-        s.maxDepth = maxDepth;
-        s.samplesPerPixel = 1;
-        s.antiAliasing = AntiAliasing::Uniform;
-        s.auxiliary = false;
-        s.bandBytes = 0;
+        std::string image = " is outside the " + std::to_string(s.width) + "x" + std::to_string(s.height) + " image";
+        if (x < 0 || x >= s.width) bad("x: " + std::to_string(x) + image);
+        if (y < 0 || y >= s.height) bad("y: " + std::to_string(y) + image);
+        s = rayTreeSettings(s.width, s.height, maxDepth);
         Scene copy = scene;
         Versions versions = handle->versions;
         uint64_t id = handle->id;

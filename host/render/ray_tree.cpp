@@ -209,4 +209,16 @@ RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
     return tree;
 }
 
+RenderSettings rayTreeSettings(int width, int height, int maxDepth) {
+    RenderSettings settings;
+    settings.width = width;
+    settings.height = height;
+    settings.maxDepth = maxDepth;
+    settings.samplesPerPixel = 1;
+    settings.antiAliasing = AntiAliasing::Uniform;
+    settings.auxiliary = false;
+    settings.bandBytes = 0;
+    return settings;
+}
+
 }  // namespace whitted

@@ -50,6 +50,11 @@ std::string objectLabel(const Scene& scene, uint32_t material);
 // contribution), its shadow rays beneath it, then its children.
 std::string rayTreeText(const RayTree& tree, const Scene& scene);
 
+// The settings a ray tree is recorded with (`whitted trace`, Python's
+// trace_pixel): one sample through the pixel's centre, uniform, no auxiliary
+// layers, the whole image in one band.
+RenderSettings rayTreeSettings(int width, int height, int maxDepth);
+
 // Runs the recording build beside one Renderer: its pipeline is built on
 // the first trace and again when the renderer's path or specialization
 // changes (a new scene), so the window can trace pixel after pixel.
