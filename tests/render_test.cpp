@@ -485,8 +485,8 @@ TEST(RenderLimits, SceneBeyondTheBufferLimitIsAClearError) {
     // The smaller of the two limits is named.
     BufferLimits smallBuffer{.maxBufferSize = uint64_t(1) << 20, .maxAllocationSize = uint64_t(2) << 30};
     EXPECT_EQ(sceneArraysTooLarge({.primitives = 1, .bvhNodes = 1, .materials = 1, .lights = 40000}, smallBuffer),
-              "the scene's 40000 lights need 2560000 bytes (2 MiB) in one buffer, more than this device's "
-              "maxBufferSize of 1048576 bytes (1 MiB, 16384 of them)");
+              "the scene's 40000 lights need 3840000 bytes (3 MiB) in one buffer, more than this device's "
+              "maxBufferSize of 1048576 bytes (1 MiB, 10922 of them)");
     // Beyond the shader's 32-bit indices even where the device allows more.
     BufferLimits huge{.maxBufferSize = UINT64_MAX, .maxAllocationSize = UINT64_MAX};
     EXPECT_EQ(sceneArraysTooLarge({.primitives = uint64_t(1) << 31, .bvhNodes = 1, .materials = 1, .lights = 1}, huge),
