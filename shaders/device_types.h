@@ -161,6 +161,13 @@ WHITTED_CONST uint kSpecListShapeMask = 2; // as kSpecShapeMask, for the primiti
 // The auxiliary outputs a render may ask for (FrameParams.options & (kOptionWriteAovs | kOptionWriteIds)), so that
 // a render without them compiles none of their code (shaders/whitted.comp; unset: all of them).
 WHITTED_CONST uint kSpecOutputOptions = 3;
+// The distribution effects a scene uses (kDistribution* bits; unset: all of them), so that a scene without them
+// compiles none of their sampling: a lens (FrameParams.apertureRadius > 0), glossy materials (kMaterialGlossy),
+// area lights (kLightRect, or radius > 0).
+WHITTED_CONST uint kSpecDistribution = 4;
+WHITTED_CONST uint kDistributionLens = 1u;
+WHITTED_CONST uint kDistributionGloss = 2u;
+WHITTED_CONST uint kDistributionAreaLights = 4u;
 
 // FrameParams.options bit flags.
 WHITTED_CONST uint kOptionWriteAovs = 1u;

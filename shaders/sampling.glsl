@@ -60,6 +60,14 @@ const uint kDimLens = 1u;
 const uint kDimLobeBase = 2u;
 const uint kDimLightBase = 16u;
 
+// The distribution effects the scene has (device_types.h kSpecDistribution): a scene without a lens, gloss or
+// area lights compiles none of their sampling (host/render/device_policy.cpp specializationFor).
+layout(constant_id = kSpecDistribution) const uint kDistribution =
+    kDistributionLens | kDistributionGloss | kDistributionAreaLights;
+const bool kHasLens = (kDistribution & kDistributionLens) != 0u;
+const bool kHasGloss = (kDistribution & kDistributionGloss) != 0u;
+const bool kHasAreaLights = (kDistribution & kDistributionAreaLights) != 0u;
+
 // Pixel-space offset of sample s; a single sample goes through the centre so
 // that spp 1 matches a classic one-ray-per-pixel render.
 vec2 pixelSampleOffset(uint s, uint n, uint pixelSeed) {

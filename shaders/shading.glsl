@@ -134,8 +134,9 @@ LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir, uint 
         // A point or directional light keeps l and dist and draws no sample.
         // One call of addLightSample for both (its shadow walk is inlined
         // once).
-        bool area = type == kLightRect || lights[i].radius > 0.0;
-        if (type == kLightRect && lights[i].twoSided == 0u && dot(l, cross(lights[i].u, lights[i].v)) >= 0.0)
+        bool area = kHasAreaLights && (type == kLightRect || lights[i].radius > 0.0);
+        if (kHasAreaLights && type == kLightRect && lights[i].twoSided == 0u &&
+            dot(l, cross(lights[i].u, lights[i].v)) >= 0.0)
             continue;  // behind a one-sided rectangle
         uint count = area ? lights[i].shadowSamples : 1u;
         vec3 radiance = lights[i].color * (area ? attenuation / float(count) : attenuation);

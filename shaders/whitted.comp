@@ -114,7 +114,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
     // the depth, normal and coefficient layers still come from the sample's
     // pinhole ray (through the lens centre), traced for them alone
     // (kPinholeAovRay), so they stay sharp at every distance.
-    bool lens = params.apertureRadius > 0.0;
+    bool lens = kHasLens && params.apertureRadius > 0.0;
     bool pinholeAovs = lens && (params.options & kWriteAovs) != 0u;
 
     while (probe || top > 0 || nextSample < end) {
@@ -266,7 +266,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // A glossy material (roughness > 0) sends each child along a direction
         // drawn from a lobe about the ideal one (shading.glsl, glossyDirection), from
         // this sample's dimension for the ray's depth (sampling.glsl).
-        bool glossy = (m.flags & kMaterialGlossy) != 0u;
+        bool glossy = kHasGloss && (m.flags & kMaterialGlossy) != 0u;
         vec2 lobeSample = glossy ? sampleDimension(nextSample - 1u, patternSize, pixelSeed,
                                                    kDimLobeBase + min(pending.depth, 13u))
                                  : vec2(0.0);

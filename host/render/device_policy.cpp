@@ -1,5 +1,6 @@
 #include "render/device_policy.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 #include <string_view>
@@ -116,18 +117,29 @@ ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, 
 }
 
 // The shapes in the BVH, any transparency, the shapes outside it (planes),
-// the auxiliary outputs. What a scene lacks compiles out (on lavapipe every branch costs, taken or
+// the auxiliary outputs, the distribution effects (a lens, gloss, area lights). What a scene lacks compiles out (on lavapipe every branch costs, taken or
 // not: shaders/intersect.glsl).
 Specialization specializationFor(const GpuScene& scene) {
     // The auxiliary outputs and the number of depth-split layers (bits 8..15).
     constexpr uint32_t kOutputOptions = gpu::kOptionWriteAovs | gpu::kOptionWriteIds | 0xffu << gpu::kOptionAovBouncesShift;
-    Specialization constants = {0u, 0u, 0u, scene.params.options & kOutputOptions};
+    Specialization constants = {0u, 0u, 0u, scene.params.options & kOutputOptions, 0u};
     // The csg leaves after the listed primitives are intersected by
     // intersectCsg only.
     size_t listEnd = scene.params.firstListPrimitive + scene.params.listPrimitiveCount;
     for (size_t i = 0; i < listEnd; ++i)
         constants[i < scene.params.firstListPrimitive ? 0 : 2] |= 1u << scene.primitives[i].shape;
-    for (const gpu::Material& m : scene.materials) constants[1] |= m.kt > 0.0f ? 1u : 0u;
+    return withShading(constants, scene);
+}
+
+Specialization withShading(Specialization constants, const GpuScene& scene) {
+    constants[1] = std::any_of(scene.materials.begin(), scene.materials.end(),
+                               [](const gpu::Material& m) { return m.kt > 0.0f; }) ? 1u : 0u;
+    uint32_t distribution = scene.params.apertureRadius > 0.0f ? gpu::kDistributionLens : 0u;
+    for (const gpu::Material& m : scene.materials)
+        if ((m.flags & gpu::kMaterialGlossy) != 0u) distribution |= gpu::kDistributionGloss;
+    for (const gpu::Light& l : scene.lights)
+        if (l.type == gpu::kLightRect || l.radius > 0.0f) distribution |= gpu::kDistributionAreaLights;
+    constants[4] = distribution;
     return constants;
 }
 
@@ -136,8 +148,9 @@ ComputePipeline createTracerPipeline(const VulkanContext& ctx, std::span<const u
     const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
                                                   {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
                                                   {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)},
-                                                  {gpu::kSpecOutputOptions, 3 * sizeof(uint32_t), sizeof(uint32_t)}};
-    vk::SpecializationInfo specialization{.mapEntryCount = 4, .pMapEntries = entries,
+                                                  {gpu::kSpecOutputOptions, 3 * sizeof(uint32_t), sizeof(uint32_t)},
+                                                  {gpu::kSpecDistribution, 4 * sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo specialization{.mapEntryCount = 5, .pMapEntries = entries,
                                           .dataSize = sizeof(constants), .pData = constants.data()};
     std::vector<DescriptorBinding> bindings(std::begin(kTracerBindings), std::end(kTracerBindings));
     if (trace == TracePath::RayQuery) bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});

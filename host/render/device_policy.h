@@ -74,9 +74,14 @@ ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, 
 // gpu::kSpecShapeMask, gpu::kSpecTransparency, gpu::kSpecListShapeMask,
 // gpu::kSpecOutputOptions (the auxiliary outputs its settings ask for: a
 // render without them compiles none of their code, the ids' probe ray
-// included).
-using Specialization = std::array<uint32_t, 4>;
+// included), gpu::kSpecDistribution (a lens, gloss, area lights: a scene
+// without them compiles none of their sampling).
+using Specialization = std::array<uint32_t, 5>;
 Specialization specializationFor(const GpuScene& scene);
+// `constants` with the ones that follow the scene's materials, lights and
+// camera (transparency, the distribution effects) taken from `scene`: what
+// an edit of those changes.
+Specialization withShading(Specialization constants, const GpuScene& scene);
 
 // A pipeline whose descriptor set layout is the tracer's along `trace`
 // (kTracerBindings, and gpu::kBindingTlas for ray queries), so that a

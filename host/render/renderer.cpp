@@ -319,20 +319,16 @@ void Renderer::setCamera(const Camera& camera) {
     scene_.params.apertureRadius = fresh.apertureRadius;
     scene_.params.focusDistance = fresh.focusDistance;
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
+    if (respecialize()) writeDescriptors();  // a lens coming or going
 }
 
 bool Renderer::setMaterials(const Scene& scene) {
     GpuShading shading = packShading(scene);
     if (shading.materials.size() != scene_.materials.size() || shading.textures != scene_.textures) return false;
     scene_.materials = std::move(shading.materials);
-    // Transparency coming or going needs the pipeline that has it or not
-    // (specializationFor; the shapes, and so the other constants, stay).
-    Specialization next = specialization_;
-    next[1] = std::any_of(scene_.materials.begin(), scene_.materials.end(),
-                          [](const gpu::Material& m) { return m.kt > 0.0f; }) ? 1u : 0u;
-    if (next != specialization_) {
-        buildPipeline(next);
-    }
+    // Transparency or gloss coming or going needs the pipeline that has it
+    // or not (withShading; the shapes, and so the other constants, stay).
+    respecialize();
     materials_ = createDeviceBuffer(ctx_, scene_.materials.data(), scene_.materials.size() * sizeof(gpu::Material),
                                     vk::BufferUsageFlagBits::eShaderDeviceAddress | kStorage);
     scene_.params.materialAddress = addressWords(materials_);
@@ -349,7 +345,15 @@ void Renderer::setLights(const Scene& scene) {
     scene_.params.lightCount = uint32_t(scene_.lights.size());
     scene_.params.ambientLight = glm::vec3(scene.ambientLight);
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
+    respecialize();  // area lights coming or going
     writeDescriptors();
+}
+
+bool Renderer::respecialize() {
+    Specialization next = withShading(specialization_, scene_);
+    if (next == specialization_) return false;
+    buildPipeline(next);
+    return true;
 }
 
 void Renderer::recordClear(const vk::raii::CommandBuffer& cmd) const {

@@ -87,6 +87,10 @@ private:
     // Specialised for scene_, or with `constants` (and the tracer build kept)
     // when its arrays are already on the device (setMaterials).
     void buildPipeline(std::optional<Specialization> constants = std::nullopt);
+    // The pipeline rebuilt (descriptor set unwritten) when an edit of the
+    // materials, lights or camera changed the constants that follow them
+    // (withShading); whether it was.
+    bool respecialize();
     void uploadScene();
     void writeDescriptors();
 

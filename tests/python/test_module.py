@@ -282,6 +282,33 @@ def test_lens_and_roughness(tmp_path):
     assert not np.array_equal(image, plain)
 
 
+# A reused renderer takes a lens, gloss and an area light in and out through its edit paths (the pipeline is
+# specialised for the distribution effects a scene has: device_types.h kSpecDistribution), each render equal to
+# a fresh renderer's.
+def test_reused_renderer_follows_lens_gloss_and_area_lights(renderer):
+    scene = whitted.load(ROOT / "scenes" / "one_mirror.xml")
+    mirror = next(o for o in scene.objects if o.reflection > 0)
+
+    def check():
+        reused = renderer.render(scene, aovs="none", spp=4, **SIZE).image
+        assert np.array_equal(reused, whitted.render(scene, aovs="none", spp=4, **SIZE).image)
+        return reused
+
+    images = [check()]
+    scene.camera.aperture_radius = 0.15
+    images.append(check())
+    mirror.roughness = 0.3
+    images.append(check())
+    scene.lights[0].radius = 0.5
+    images.append(check())
+    scene.camera.aperture_radius = 0
+    mirror.roughness = 0
+    scene.lights[0].radius = 0
+    images.append(check())
+    assert all(not np.array_equal(a, b) for a, b in zip(images[:3], images[1:4]))
+    assert np.array_equal(images[0], images[-1])
+
+
 def rss_mib():
     with open("/proc/self/status") as f:
         for line in f:
