@@ -1,8 +1,10 @@
 #include "render/device_policy.h"
 
 #include <cstdlib>
+#include <iterator>
 #include <stdexcept>
 #include <string_view>
+#include <vector>
 
 namespace whitted {
 namespace {
@@ -128,6 +130,19 @@ Specialization specializationFor(const GpuScene& scene) {
         constants[i < scene.params.firstListPrimitive ? 0 : 2] |= 1u << scene.primitives[i].shape;
     for (const gpu::Material& m : scene.materials) constants[1] |= m.kt > 0.0f ? 1u : 0u;
     return constants;
+}
+
+ComputePipeline createTracerPipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv, TracePath trace,
+                                     const Specialization& constants) {
+    const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
+                                                  {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
+                                                  {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)},
+                                                  {gpu::kSpecOutputOptions, 3 * sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo specialization{.mapEntryCount = 4, .pMapEntries = entries, .dataSize = sizeof(constants),
+                                          .pData = constants.data()};
+    std::vector<DescriptorBinding> bindings(std::begin(kTracerBindings), std::end(kTracerBindings));
+    if (trace == TracePath::RayQuery) bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});
+    return createComputePipeline(ctx, spirv, bindings, sizeof(gpu::TileParams), &specialization);
 }
 
 }  // namespace whitted

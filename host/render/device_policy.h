@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <span>
 #include <string>
 
 namespace whitted {
@@ -76,5 +77,13 @@ ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, 
 // included).
 using Specialization = std::array<uint32_t, 4>;
 Specialization specializationFor(const GpuScene& scene);
+
+// A pipeline of a build of the tracer (or any shader that includes
+// shaders/intersect.glsl) whose descriptor set layout is the tracer's
+// (kTracerBindings, and the TLAS along ray queries) and whose push constants
+// are gpu::TileParams, specialised with `constants`: a Renderer's own, and
+// the ray-tree recorder's beside it, which binds the renderer's set.
+ComputePipeline createTracerPipeline(const VulkanContext& ctx, std::span<const uint32_t> spirv, TracePath trace,
+                                     const Specialization& constants);
 
 }  // namespace whitted

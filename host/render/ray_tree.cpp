@@ -6,6 +6,7 @@
 #include "whitted_comp_ray_tree.h"            // kWhittedCompRayTreeSpv: shaders/whitted.comp with -DWHITTED_RAY_TREE
 #include "whitted_comp_ray_tree_ray_query.h"  // kWhittedCompRayTreeRayQuerySpv: the same with -DWHITTED_RAY_QUERY
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
@@ -165,17 +166,10 @@ RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
     // layout made as the renderer's, so that its descriptor set binds here.
     std::pair<TracePath, Specialization> key{renderer.trace(), renderer.specialization()};
     if (builtFor_ != key) {
-        const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
-                                                      {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
-                                                      {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
-        vk::SpecializationInfo specialization{.mapEntryCount = 3, .pMapEntries = entries,
-                                              .dataSize = sizeof(key.second), .pData = key.second.data()};
-        std::vector<DescriptorBinding> bindings(std::begin(kTracerBindings), std::end(kTracerBindings));
-        bool rayQuery = key.first == TracePath::RayQuery;
-        if (rayQuery) bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});
-        std::span<const uint32_t> spirv = rayQuery ? std::span<const uint32_t>(kWhittedCompRayTreeRayQuerySpv)
-                                                   : std::span<const uint32_t>(kWhittedCompRayTreeSpv);
-        pipeline_ = createComputePipeline(ctx_, spirv, bindings, sizeof(gpu::TileParams), &specialization);
+        std::span<const uint32_t> spirv = key.first == TracePath::RayQuery
+                                              ? std::span<const uint32_t>(kWhittedCompRayTreeRayQuerySpv)
+                                              : std::span<const uint32_t>(kWhittedCompRayTreeSpv);
+        pipeline_ = createTracerPipeline(ctx_, spirv, key.first, key.second);
         builtFor_ = key;
     }
 
@@ -213,6 +207,14 @@ RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
     tree.crossings.assign(record->crossings,
                           record->crossings + std::min(record->crossingCount, gpu::kRayTreeMaxCrossings));
     tree.dropped = record->dropped;
+    // The walk finds a shadow ray's crossings in the BVH's order (or the
+    // driver's): each shadow ray's are put in order along it.
+    for (const gpu::RayTreeShadowRay& s : tree.shadowRays) {
+        size_t first = std::min<size_t>(s.firstCrossing, tree.crossings.size());
+        size_t end = std::min<size_t>(first + s.crossingCount, tree.crossings.size());
+        std::stable_sort(tree.crossings.begin() + ptrdiff_t(first), tree.crossings.begin() + ptrdiff_t(end),
+                         [](const gpu::RayTreeCrossing& a, const gpu::RayTreeCrossing& b) { return a.t < b.t; });
+    }
     return tree;
 }
 

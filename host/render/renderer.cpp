@@ -173,22 +173,13 @@ void Renderer::buildPipeline(std::optional<Specialization> constants) {
     // tracer build that reads them stays.
     if (!constants) shaderVariant_ = shaderVariantFor(ctx_, scene_, trace_, settings_.sceneReads, settings_.fittedShader);
     specialization_ = constants ? *constants : specializationFor(scene_);
-    const vk::SpecializationMapEntry entries[] = {{gpu::kSpecShapeMask, 0, sizeof(uint32_t)},
-                                                  {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
-                                                  {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)},
-                                                  {gpu::kSpecOutputOptions, 3 * sizeof(uint32_t), sizeof(uint32_t)}};
-    vk::SpecializationInfo specialization{.mapEntryCount = 4, .pMapEntries = entries,
-                                          .dataSize = sizeof(specialization_), .pData = specialization_.data()};
     std::span<const uint32_t> spirv = embeddedTracer(shaderVariant_);
 #ifdef WHITTED_DEVELOPER
     std::vector<uint32_t> override = shaderOverride();
     if (!override.empty()) spirv = override;
 #endif
-    std::vector<DescriptorBinding> bindings(std::begin(kTracerBindings), std::end(kTracerBindings));
-    if (trace_ == TracePath::RayQuery)
-        bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});
     descriptorSet_ = nullptr;  // freed before the layout it was allocated with goes
-    pipeline_ = createComputePipeline(ctx_, spirv, bindings, sizeof(gpu::TileParams), &specialization);
+    pipeline_ = createTracerPipeline(ctx_, spirv, trace_, specialization_);
     vk::DescriptorSetLayout setLayout = *pipeline_.setLayout;
     descriptorSet_ = std::move(vk::raii::DescriptorSets(
         ctx_.device, {.descriptorPool = *descriptorPool_, .descriptorSetCount = 1, .pSetLayouts = &setLayout}).front());
