@@ -1,6 +1,7 @@
 #include "render/device_policy.h"
 
 #include <cstdlib>
+#include <iterator>
 #include <stdexcept>
 #include <string_view>
 #include <vector>

@@ -6,6 +6,7 @@
 #include "whitted_comp_ray_tree.h"            // kWhittedCompRayTreeSpv: shaders/whitted.comp with -DWHITTED_RAY_TREE
 #include "whitted_comp_ray_tree_ray_query.h"  // kWhittedCompRayTreeRayQuerySpv: the same with -DWHITTED_RAY_QUERY
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
@@ -206,6 +207,14 @@ RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
     tree.crossings.assign(record->crossings,
                           record->crossings + std::min(record->crossingCount, gpu::kRayTreeMaxCrossings));
     tree.dropped = record->dropped;
+    // The walk finds a shadow ray's crossings in the BVH's order (or the
+    // driver's): each shadow ray's are put in order along it.
+    for (const gpu::RayTreeShadowRay& s : tree.shadowRays) {
+        size_t first = std::min<size_t>(s.firstCrossing, tree.crossings.size());
+        size_t end = std::min<size_t>(first + s.crossingCount, tree.crossings.size());
+        std::stable_sort(tree.crossings.begin() + ptrdiff_t(first), tree.crossings.begin() + ptrdiff_t(end),
+                         [](const gpu::RayTreeCrossing& a, const gpu::RayTreeCrossing& b) { return a.t < b.t; });
+    }
     return tree;
 }
 

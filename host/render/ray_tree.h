@@ -28,7 +28,7 @@ struct RayTree {
     int maxDepth = 0;
     std::vector<gpu::RayTreeRay> rays;  // in the order traced; rays[0] the camera ray
     std::vector<gpu::RayTreeShadowRay> shadowRays;
-    std::vector<gpu::RayTreeCrossing> crossings;
+    std::vector<gpu::RayTreeCrossing> crossings;  // each shadow ray's in order along it (by t)
     uint32_t dropped = 0;  // rays, shadow rays or crossings beyond the record's capacity (device_types.h)
 
     // The sum of the rays' contributions: the pixel's colour.
