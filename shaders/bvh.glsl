@@ -59,7 +59,8 @@ vec3 safeInverse(vec3 d) {
 // outer iteration. Stack entries are a wide node's index (its children's
 // boxes are tested next) or a leaf's primitive range (kBvhLeafEntry,
 // device_types.h).
-// Returns false when a shadow ray is blocked.
+// Returns false when a shadow ray is blocked (the recorder's build walks on
+// to the end: kShadowWalksAll, intersect.glsl).
 const uint kNoEntry = 0xffffffffu;
 
 // Child k's entry distance (or kMiss) and stack entry, from the node's
@@ -111,10 +112,10 @@ const float kBoxExitGrowth = 1.00000095367431640625;  // 1 + 8 * 2^-23
 
 bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
                    inout vec3 opticalDepth) {
-    if (!traverseList(ray, tMax, shadow, hit, transmittance, opticalDepth)) return false;
-    if (kShapeMask == 0u || params.bvhNodeCount == 0u) return true;
+    bool blocked = !traverseList(ray, tMax, shadow, hit, transmittance, opticalDepth);
+    if (blocked && !kShadowWalksAll) return false;
+    if (kShapeMask == 0u || params.bvhNodeCount == 0u) return !blocked;
     float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
-    bool blocked = false;
 
     vec3 invDir = safeInverse(ray.dir);
     uint stack[kBvhWideStackSize];
@@ -205,11 +206,11 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
         if (prim < primEnd) {
             if (testPrimitive(prim, kShapeMask, ray, tMax, shadow, hit, transmittance, opticalDepth, tFrom,
                               blocked)) ++prim;
-            if (blocked) return false;
+            if (blocked && !kShadowWalksAll) return false;
             running = true;
         }
     }
-    return true;
+    return !blocked;
 }
 #undef WHITTED_CHILD
 

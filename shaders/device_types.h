@@ -452,10 +452,13 @@ struct RayTreeRay {
     uint shadowRayCount WHITTED_ZERO;
 };
 
-// One shadow ray from a hit point towards a light. visibility is what
-// shadeLocal got from shadowTransmittance; transmittance the same light
-// recomputed by the recorder crossing by crossing (crossings[first ..
-// first + count), blocked when one is opaque), which tests compare.
+// One shadow ray from a hit point towards a light, traced by the renderer's
+// own shadow walk (shadowTransmittance, shaders/intersect.glsl), which goes
+// on past an opaque surface in the recorder's build so that every surface in
+// (0, distance) is found. visibility is what the walk returned;
+// transmittance the product of the filters of the crossings it handed to
+// the recorder (crossings[first .. first + count), in order along the ray,
+// and those left out), 0 when one is opaque, which tests compare.
 struct RayTreeShadowRay {
     vec3 origin WHITTED_ZERO;
     uint ray WHITTED_ZERO;            // the RayTreeRay it belongs to
@@ -478,9 +481,9 @@ struct RayTreeShadowRay {
     uint pad0 WHITTED_ZERO;
 };
 
-// A transparent surface a shadow ray crosses, and the filter kt * mix(white,
-// Cd, kd) it applies there (shaders/intersect.glsl). An opaque one is
-// recorded too, with filter 0.
+// A surface a shadow ray crosses, and the filter kt * mix(white, Cd, kd) * Ct
+// it applies there (shadowCrossing, shaders/intersect.glsl). An opaque one
+// is recorded too, with filter 0.
 struct RayTreeCrossing {
     vec3 filterColour WHITTED_ZERO;
     float t WHITTED_ZERO;

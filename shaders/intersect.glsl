@@ -55,13 +55,50 @@ bool intersectPrimitiveAt(uint i, const uint mask, Ray ray, float tMin, inout fl
     return false;
 }
 
+#ifdef WHITTED_RAY_TREE
+// The ray-tree recorder's build (shaders/ray_tree.glsl) writes down every
+// crossing of a shadow ray as its walk finds it: the walk goes on past an
+// opaque crossing (the light is 0 either way) and shadowCrossing hands each
+// crossing to rayTreeCrossing. The render's builds stop at the first opaque
+// one.
+const bool kShadowWalksAll = true;
+void rayTreeCrossing(uint primitive, uint material, float t, vec3 filterColour, vec3 opticalDepth, bool opaque);
+#else
+const bool kShadowWalksAll = false;
+#endif
+
+// A shadow ray crosses the surface of primitive i (of a csg object: the leaf
+// struck) at distance t, n the geometric normal there: the one step every
+// shadow walk takes per crossing (testPrimitive and testCsg in the BVH walk
+// and the list, the candidates of ray_query.glsl). A transparent surface
+// (kt > 0) filters the light by kt * mix(white, Cd, kd) * Ct, Cd the
+// pigment at the crossing as POV-Ray's filter takes it, and adds the
+// crossing's share of the signed optical depth (see shadowTransmittance).
+// Returns false when the surface is opaque.
+bool shadowCrossing(uint i, Ray ray, float t, vec3 n, inout vec3 transmittance, inout vec3 opticalDepth) {
+    uint k = primitives[i].material;
+    float kt = kSceneHasTransparency ? materials[k].kt : 0.0;
+    bool opaque = kt <= 0.0;
+    vec3 filterColour = vec3(0.0), depth = vec3(0.0);
+    if (!opaque) {
+        vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
+        filterColour = kt * mix(vec3(1.0), cd, materials[k].kd) * materials[k].transmissionColor;
+        depth = (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
+        transmittance *= filterColour;
+        opticalDepth += depth;
+    }
+#ifdef WHITTED_RAY_TREE
+    rayTreeCrossing(i, k, t, filterColour, depth, opaque);
+#endif
+    return !opaque;
+}
+
 #ifndef WHITTED_NO_CSG
 // A csg object (shaders/shapes/csg.glsl) for either query. A closest hit
 // reports the leaf primitive struck. A csg object is not convex, so a
-// shadow ray walks every crossing of its surface in (0, tMax) and filters
-// the light at each by the material of the leaf struck, as testPrimitive
-// does (kt, pigment, signed optical depth by the object's outward normal);
-// an opaque crossing blocks.
+// shadow ray walks every crossing of its surface in (0, tMax), each
+// through shadowCrossing with the leaf struck (its material) and the
+// object's outward normal; an opaque crossing blocks.
 void testCsg(uint i, Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
              inout vec3 opticalDepth, inout bool blocked) {
     vec3 n;
@@ -77,24 +114,18 @@ void testCsg(uint i, Ray ray, float tMax, const bool shadow, inout Hit hit, inou
     for (uint crossing = 0u; crossing < 2u * kCsgMaxLeaves; ++crossing) {
         float t = tMax;
         if (!intersectCsg(i, ray, tFrom, t, n, leaf)) return;
-        uint k = primitives[leaf].material;
-        float kt = materials[k].kt;
-        if (!kSceneHasTransparency || kt <= 0.0) {
+        if (!shadowCrossing(leaf, ray, t, n, transmittance, opticalDepth)) {
             blocked = true;
-            return;
+            if (!kShadowWalksAll) return;
         }
-        vec3 cd = crossingColour(leaf, k, ray.origin + t * ray.dir, n);
-        transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd) * materials[k].transmissionColor;
-        opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
         tFrom = t;
     }
 }
 #endif
 
 // Tests primitive i for either query. Closest hit (shadow = false): updates
-// hit. Shadow ray: filters transmittance by a crossing of a transparent
-// surface, sets blocked at an opaque one, and adds the crossing's share of
-// the optical depth (see shadowTransmittance). A primitive is convex or
+// hit. Shadow ray: each crossing goes through shadowCrossing, and an opaque
+// one sets blocked. A primitive is convex or
 // flat, so after a first crossing a shadow ray tests it once more from there
 // (tFrom). Returns whether the next primitive is due.
 bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shadow, inout Hit hit,
@@ -115,21 +146,9 @@ bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shad
     }
     float t = tMax;
     bool crossed = intersectPrimitiveAt(i, mask, ray, tFrom, t, n);
-    if (crossed) {
-        if (!kSceneHasTransparency) {
-            blocked = true;
-            return true;
-        }
-        uint k = primitives[i].material;
-        float kt = materials[k].kt;
-        if (kt <= 0.0) {
-            blocked = true;
-        } else {
-            // The pigment at the crossing, as POV-Ray's filter takes it.
-            vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
-            transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd) * materials[k].transmissionColor;
-            opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
-        }
+    if (crossed && !shadowCrossing(i, ray, t, n, transmittance, opticalDepth)) {
+        blocked = true;
+        if (!kShadowWalksAll) return true;
     }
     if (crossed && tFrom == 0.0) {
         tFrom = t;
@@ -150,10 +169,10 @@ bool traverseList(Ray ray, float tMax, const bool shadow, inout Hit hit, inout v
         while (i < end) {
             if (testPrimitive(i, kListShapeMask, ray, tMax, shadow, hit, transmittance, opticalDepth, tFrom,
                               blocked)) ++i;
-            if (blocked) return false;
+            if (blocked && !kShadowWalksAll) return false;
         }
     }
-    return true;
+    return !blocked;
 }
 
 #ifdef WHITTED_RAY_QUERY

@@ -16,7 +16,8 @@
 // an AABB candidate is tested with the shape's own function and committed
 // with rayQueryGenerateIntersectionEXT when nearer than the committed hit.
 // Shadow rays with transparency: every candidate is looked at (ray flag
-// NoOpaque, no commits) and filters the light once per crossing; the BLASes
+// NoOpaque, no commits) and filters the light once per crossing
+// (shadowCrossing, intersect.glsl); the BLASes
 // are built with NO_DUPLICATE_ANY_HIT, so each primitive comes once; the
 // first opaque crossing ends the query. Without transparency a shadow ray
 // stops at the first hit of any kind.
@@ -24,33 +25,22 @@
 #define WHITTED_RAY_QUERY_GLSL
 #include "scene.glsl"  // sceneTlas
 
-// Filters a shadow ray by one crossing of primitive i at distance t with
-// geometric normal n, as testPrimitive (intersect.glsl) does: the pigment at
-// the crossing, and the signed optical depth of absorbing objects (leaving
-// adds sigma t, entering subtracts it). False when the surface is opaque.
-bool filterCrossing(uint i, Ray ray, float t, vec3 n, inout vec3 transmittance, inout vec3 opticalDepth) {
-    uint k = primitives[i].material;
-    float kt = materials[k].kt;
-    vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
-    transmittance *= kt * mix(vec3(1.0), cd, materials[k].kd) * materials[k].transmissionColor;
-    opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
-    return kt > 0.0;
-}
-
 bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
                    inout vec3 opticalDepth) {
-    if (!traverseList(ray, tMax, shadow, hit, transmittance, opticalDepth)) return false;
-    if (kShapeMask == 0u) return true;
+    bool blocked = !traverseList(ray, tMax, shadow, hit, transmittance, opticalDepth);
+    if (blocked && !kShadowWalksAll) return false;
+    if (kShapeMask == 0u) return !blocked;
     // The shapes in the AABB BLAS.
     const uint boxMask = kShapeMask & ~(1u << kShapeTriangle);
-    const bool filtering = shadow && kSceneHasTransparency;
+    // Shadow rays look at every candidate with transparency, and in the
+    // recorder's build, which writes each crossing down (kShadowWalksAll).
+    const bool filtering = shadow && (kSceneHasTransparency || kShadowWalksAll);
     const bool mixed = boxMask != 0u && (kShapeMask & (1u << kShapeTriangle)) != 0u;
     uint flags = filtering ? gl_RayFlagsNoOpaqueEXT : (shadow ? gl_RayFlagsTerminateOnFirstHitEXT : gl_RayFlagsNoneEXT);
     rayQueryEXT query;
     rayQueryInitializeEXT(query, sceneTlas, flags, 0xffu, ray.origin, 0.0, ray.dir, shadow ? tMax : hit.t);
     vec3 boxNormal = vec3(0.0);  // normal of the last AABB hit committed
     uint boxPrimitive = 0u;      // and its primitive: a csg object's leaf struck
-    bool blocked = false;
     while (rayQueryProceedEXT(query)) {
         uint i = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, false));
         bool box = rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionAABBEXT;
@@ -68,20 +58,21 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                 // A convex shape is crossed at most twice: in, then out.
                 float t = tMax;
                 if (intersectPrimitiveAt(i, boxMask, ray, 0.0, t, n)) {
+                    bool opaque = !shadowCrossing(i, ray, t, n, transmittance, opticalDepth);
                     float tOut = tMax;
                     vec3 nOut;
-                    blocked = !filterCrossing(i, ray, t, n, transmittance, opticalDepth) ||
-                              (intersectPrimitiveAt(i, boxMask, ray, t, tOut, nOut) &&
-                               !filterCrossing(i, ray, tOut, nOut, transmittance, opticalDepth));
+                    if ((!opaque || kShadowWalksAll) && intersectPrimitiveAt(i, boxMask, ray, t, tOut, nOut))
+                        opaque = !shadowCrossing(i, ray, tOut, nOut, transmittance, opticalDepth) || opaque;
+                    blocked = blocked || opaque;
                 }
             } else if (!box) {
                 // The winding's normal, as intersectTriangle gives it.
                 vec3 a = primitives[i].a.xyz;
                 n = cross(primitives[i].b.xyz - a, primitives[i].c.xyz - a);
-                blocked = !filterCrossing(i, ray, rayQueryGetIntersectionTEXT(query, false), n, transmittance,
-                                          opticalDepth);
+                blocked = !shadowCrossing(i, ray, rayQueryGetIntersectionTEXT(query, false), n, transmittance,
+                                          opticalDepth) || blocked;
             }
-            if (blocked) rayQueryTerminateEXT(query);
+            if (blocked && !kShadowWalksAll) rayQueryTerminateEXT(query);
         } else if (csg) {
             float tBest = rayQueryGetIntersectionTypeEXT(query, true) != gl_RayQueryCommittedIntersectionNoneEXT
                               ? rayQueryGetIntersectionTEXT(query, true)

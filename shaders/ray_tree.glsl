@@ -3,10 +3,10 @@
 // functions. The host (host/render/ray_tree.h) dispatches that build over one
 // pixel and one sample (its centre), so every ray the tracer traces there is
 // written into the RayTreeRecord at TileParams.rayTreeAddress
-// (device_types.h). The values recorded are the tracer's own (its weights,
-// its local terms, its shadow rays' visibility); only which surfaces a shadow
-// ray crosses is found again here (rayTreeShadowCrossings), because the
-// shadow walk keeps no list of them.
+// (device_types.h). The values recorded are the tracer's own: its weights,
+// its local terms, and its shadow rays, traced by the renderer's own walk
+// (shadowTransmittance, along the BVH or the ray queries) whose every
+// crossing comes here through shadowCrossing's hook (rayTreeCrossing).
 #ifndef WHITTED_RAY_TREE_GLSL
 #define WHITTED_RAY_TREE_GLSL
 #include "intersect.glsl"
@@ -81,61 +81,39 @@ void rayTreeTotalInternal() { gRayTreeTotalInternal = true; }
 // The kind of the reflection ray the current ray spawns.
 uint rayTreeReflectionKind() { return gRayTreeTotalInternal ? kRayTotalInternal : kRayReflection; }
 
-// The surfaces a shadow ray crosses in (0, tMax), found as
-// shadowTransmittance's walk finds them (testPrimitive and testCsg in
-// intersect.glsl: every primitive, a convex one at most twice, a csg object
-// crossing by crossing), but over all primitives in order so that each can be
-// written down. Fills the shadow ray's outcome, blocker, transmittance and
-// absorption.
-void rayTreeShadowCrossings(inout RayTreeShadowRay s, Ray ray, float tMax) {
-    vec3 transmittance = vec3(1.0), opticalDepth = vec3(0.0);
-    bool blocked = false, filtered = false;
-    uint end = params.firstListPrimitive + params.listPrimitiveCount;
-    const uint shapes = (kShapeMask | kListShapeMask) & ~(1u << kShapeCsg);
-    for (uint i = 0u; i < end; ++i) {
-        bool csg = primitives[i].shape == kShapeCsg;
-        float tFrom = 0.0;
-        for (uint crossing = 0u; crossing < (csg ? 2u * kCsgMaxLeaves : 2u); ++crossing) {
-            float t = tMax;
-            vec3 n;
-            uint leaf = i;
-            bool crossed = csg ? intersectCsg(i, ray, tFrom, t, n, leaf)
-                               : intersectPrimitiveAt(i, shapes, ray, tFrom, t, n);
-            if (!crossed) break;
-            tFrom = t;
-            uint k = primitives[leaf].material;
-            float kt = kSceneHasTransparency ? materials[k].kt : 0.0;
-            vec3 filterColour = vec3(0.0);
-            if (kt <= 0.0) {
-                if (!blocked || t < s.blockerT) {
-                    s.blocker = leaf;
-                    s.blockerMaterial = k;
-                    s.blockerT = t;
-                }
-                blocked = true;
-            } else {
-                filterColour = kt * mix(vec3(1.0), crossingColour(leaf, k, ray.origin + t * ray.dir, n), materials[k].kd) *
-                               materials[k].transmissionColor;
-                transmittance *= filterColour;
-                filtered = true;
-                opticalDepth += (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
-            }
-            uint c = rayTree.crossingCount;
-            if (c >= kRayTreeMaxCrossings) {
-                rayTree.dropped += 1u;
-                s.droppedCrossings += 1u;
-            } else {
-                rayTree.crossingCount = c + 1u;
-                rayTree.crossings[c] = RayTreeCrossing(filterColour, t, leaf, k, 0u, 0u);
-                s.crossingCount += 1u;
-            }
+// The shadow ray being recorded (gRayTreeShadowOn: it has a place in the
+// record) and the signed optical depth of its crossings so far.
+bool gRayTreeShadowOn = false;
+RayTreeShadowRay gRayTreeShadow;
+vec3 gRayTreeOpticalDepth = vec3(0.0);
+
+// The hook of shadowCrossing (intersect.glsl): the walk of the shadow ray
+// being recorded crossed `primitive` at t. Writes the crossing down (or
+// counts it, the record's crossings being full) and keeps the nearest
+// opaque one as the blocker and the product of the filters, found or not.
+void rayTreeCrossing(uint primitive, uint material, float t, vec3 filterColour, vec3 opticalDepth, bool opaque) {
+    if (!gRayTreeShadowOn) return;
+    if (opaque) {
+        if (gRayTreeShadow.outcome != kShadowBlocked || t < gRayTreeShadow.blockerT) {
+            gRayTreeShadow.blocker = primitive;
+            gRayTreeShadow.blockerMaterial = material;
+            gRayTreeShadow.blockerT = t;
         }
+        gRayTreeShadow.outcome = kShadowBlocked;
+    } else {
+        gRayTreeShadow.transmittance *= filterColour;
+        gRayTreeOpticalDepth += opticalDepth;
+        if (gRayTreeShadow.outcome == kShadowLit) gRayTreeShadow.outcome = kShadowFiltered;
     }
-    s.absorption = exp(-max(opticalDepth, vec3(0.0)));
-    s.transmittance = blocked ? vec3(0.0) : transmittance * s.absorption;
-    // From what was found, written down or not: a shadow ray whose crossings
-    // all overflowed the record is still filtered, never lit.
-    s.outcome = blocked ? kShadowBlocked : (filtered ? kShadowFiltered : kShadowLit);
+    uint c = rayTree.crossingCount;
+    if (c >= kRayTreeMaxCrossings) {
+        rayTree.dropped += 1u;
+        gRayTreeShadow.droppedCrossings += 1u;
+    } else {
+        rayTree.crossingCount = c + 1u;
+        rayTree.crossings[c] = RayTreeCrossing(filterColour, t, primitive, material, 0u, 0u);
+        gRayTreeShadow.crossingCount += 1u;
+    }
 }
 
 // The light before the last recorded one gets its share of the current
@@ -151,26 +129,28 @@ void rayTreeCloseShadowRay(vec3 diffuse, vec3 specular) {
     gRayTreeSpecularBefore = specular;
 }
 
-// shadeLocal traced a shadow ray towards light `light` and got `visibility`;
-// diffuse and specular are its sums so far (before this light's terms).
-void rayTreeShadowRay(uint light, Ray ray, float dist, vec3 visibility, vec3 diffuse, vec3 specular) {
+// shadeLocal's shadow ray towards light `light`, traced here by
+// shadowTransmittance, the renderer's own walk, with its crossings written
+// down as it finds them (in the walk's order; the host sorts them along the
+// ray); returns its visibility. diffuse and specular are shadeLocal's sums
+// so far (before this light's terms).
+vec3 rayTreeShadowRay(uint light, Ray ray, float dist, vec3 diffuse, vec3 specular) {
     if (gRayTreeCurrent == kNoObject) {  // the ray it belongs to was dropped: so is it, counted
         rayTree.dropped += 1u;
-        return;
+        return shadowTransmittance(ray, dist);
     }
     rayTreeCloseShadowRay(diffuse, specular);
     uint i = rayTree.shadowRayCount;
     if (i >= kRayTreeMaxShadowRays) {
         rayTree.dropped += 1u;
-        return;
+        return shadowTransmittance(ray, dist);
     }
-    rayTree.shadowRayCount = i + 1u;
     RayTreeShadowRay s;
     s.origin = ray.origin;
     s.ray = gRayTreeCurrent;
     s.direction = ray.dir;
     s.light = light;
-    s.visibility = visibility;
+    s.visibility = vec3(0.0);
     s.distance = dist;
     s.diffuse = vec3(0.0);
     s.outcome = kShadowLit;
@@ -184,10 +164,22 @@ void rayTreeShadowRay(uint light, Ray ray, float dist, vec3 visibility, vec3 dif
     s.blockerMaterial = kNoObject;
     s.droppedCrossings = 0u;
     s.pad0 = 0u;
-    rayTreeShadowCrossings(s, ray, dist);
+    gRayTreeShadow = s;
+    gRayTreeOpticalDepth = vec3(0.0);
+    gRayTreeShadowOn = true;
+    vec3 visibility = shadowTransmittance(ray, dist);
+    gRayTreeShadowOn = false;
+    s = gRayTreeShadow;
+    s.visibility = visibility;
+    s.absorption = exp(-max(gRayTreeOpticalDepth, vec3(0.0)));
+    // From what was found, written down or not: a shadow ray whose crossings
+    // all overflowed the record is still filtered, never lit.
+    s.transmittance = s.outcome == kShadowBlocked ? vec3(0.0) : s.transmittance * s.absorption;
+    rayTree.shadowRayCount = i + 1u;
     rayTree.shadowRays[i] = s;
     // Shadow rays of one ray are consecutive: they are traced while it is shaded.
     rayTree.rays[gRayTreeCurrent].shadowRayCount += 1u;
+    return visibility;
 }
 
 // The current ray hit `hit` and was shaded: its hit, the weight that scaled

@@ -64,11 +64,10 @@ void addLightSample(inout LocalShading s, uint i, Material m, vec3 p, vec3 n, ve
     s.shadowRays += 1u;
 #ifdef WHITTED_PROFILE_NO_SHADOWS  // tools/profile_shader.sh: what shadow rays cost
     vec3 visibility = vec3(1.0);
+#elif defined(WHITTED_RAY_TREE)  // the same shadowTransmittance, its crossings written down
+    vec3 visibility = rayTreeShadowRay(i, Ray(p, l), dist, s.diffuse, s.specular);
 #else
     vec3 visibility = shadowTransmittance(Ray(p, l), dist);
-#endif
-#ifdef WHITTED_RAY_TREE
-    rayTreeShadowRay(i, Ray(p, l), dist, visibility, s.diffuse, s.specular);
 #endif
     if (all(equal(visibility, vec3(0.0)))) return;
     vec3 light = visibility * radiance;

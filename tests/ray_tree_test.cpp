@@ -2,7 +2,9 @@
 // the renderer's (its contributions add up to the rendered pixel), its
 // reflections, refractions and shadow rays are the ones a hand computation
 // gives, and it is a tree.
+#include "exact_triangle.h"
 #include "io/image_io.h"
+#include "render/gpu_scene.h"
 #include "render/ray_tree.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
@@ -10,6 +12,7 @@
 
 #include <glm/gtc/epsilon.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -134,6 +137,41 @@ INSTANTIATE_TEST_SUITE_P(RayTree, ShippedScene, testing::ValuesIn(kShippedScenes
                          [](const testing::TestParamInfo<std::string>& info) {
                              return fs::path(info.param).stem().string();
                          });
+
+// RayTree::walk, the one walk of every view of the tree (text, window):
+// depth first, children in the order traced, leave after a ray's children,
+// none of them for a ray whose enter said no; shadowRaysOf and crossingsOf
+// stop at what the record holds.
+TEST(RayTree, WalkIsDepthFirstInTracedOrder) {
+    RayTree tree;
+    // 0 camera; 1, 2 its children; 3 a child of 1; 4 a child of 2 (not
+    // entered); 5 a child of 3.
+    const uint32_t parents[] = {gpu::kNoObject, 0, 0, 1, 2, 3};
+    for (uint32_t p : parents) {
+        gpu::RayTreeRay r{};
+        r.parent = p;
+        tree.rays.push_back(r);
+    }
+    std::string order;
+    tree.walk(
+        [&](uint32_t i, int level) {
+            order += "+" + std::to_string(i) + "@" + std::to_string(level);
+            return i != 2;
+        },
+        [&](uint32_t i) { order += "-" + std::to_string(i); });
+    EXPECT_EQ(order, "+0@0+1@1+3@2+5@3-5-3-1+2@1-0");
+
+    tree.rays[1].firstShadowRay = 1;
+    tree.rays[1].shadowRayCount = 5;  // the record holds 3 shadow rays
+    tree.shadowRays.resize(3);
+    tree.shadowRays[2].firstCrossing = 1;
+    tree.shadowRays[2].crossingCount = 4;  // and 2 crossings
+    tree.crossings.resize(2);
+    EXPECT_EQ(tree.shadowRaysOf(1).size(), 2u);
+    EXPECT_EQ(tree.shadowRaysOf(0).size(), 0u);
+    EXPECT_EQ(tree.crossingsOf(tree.shadowRays[2]).size(), 1u);
+    EXPECT_EQ(&tree.crossingsOf(tree.shadowRays[2])[0], &tree.crossings[1]);
+}
 
 TEST(RayTree, EveryShippedSceneIsTraced) {
     std::vector<std::string> found;
@@ -350,6 +388,95 @@ TEST(RayTree, AFullRecordSaysSoAndCountsWhatItLeftOut) {
     EXPECT_GT(deep.dropped, 0u);
     const std::string deepText = rayTreeText(deep, loadSceneFromString(slabs, "slabs.xml"));
     EXPECT_NE(deepText.find("(not fully recorded: "), std::string::npos) << deepText.substr(0, 300);
+}
+
+// A shadow ray through a 307,200-triangle glass mesh (600 tilted layers of
+// 512 triangles above a floor, the light above them): the recorder gets its
+// crossings from the renderer's own shadow walk, along the BVH or the ray
+// queries (shadowCrossing's hook, shaders/intersect.glsl), not from a loop
+// over every primitive, and they are exactly those a double-precision test
+// of every triangle finds along the recorded ray: the same count, the same
+// triangles in the same order, t within 1e-5 relative. The floor point lies
+// 0.004 or more from every layer's triangle edges in x and z, so no
+// crossing is a near miss either way.
+TEST(RayTree, ShadowRayThroughALargeMeshRecordsExactlyTheCrossingsBruteForceFinds) {
+    constexpr int kLayers = 600, kGrid = 16;
+    Scene scene;
+    const glm::dvec3 target(0.0131, 0.0, 0.0173);
+    scene.camera.eye = target + glm::dvec3(0, 0.5, 6);
+    scene.camera.windowCenter = target + glm::dvec3(0, 0.5 - 0.5 / 6, 5);
+    scene.camera.width = 41;
+    scene.camera.height = 31;
+    Light light;
+    light.position = target + glm::dvec3(0, 5, 0);
+    scene.lights.push_back(light);
+    Object floor;
+    floor.shape = Plane{{0, 0, 0}, {0, 1, 0}};
+    floor.material.diffuse = 0.8;
+    scene.objects.push_back(floor);
+    Mesh mesh;
+    for (int layer = 0; layer < kLayers; ++layer) {
+        auto vertex = [&](int i, int j) {
+            double x = -1 + 2.0 * i / kGrid, z = -1 + 2.0 * j / kGrid;
+            // Float values, as the renderer packs them: the reference tests the same triangles.
+            return glm::dvec3(glm::vec3(glm::dvec3(x, 1 + 0.003 * layer + 0.0004 * x - 0.0003 * z, z)));
+        };
+        for (int i = 0; i < kGrid; ++i)
+            for (int j = 0; j < kGrid; ++j) {
+                mesh.triangles.push_back({vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1)});
+                mesh.triangles.push_back({vertex(i, j), vertex(i + 1, j + 1), vertex(i, j + 1)});
+            }
+    }
+    Object glass;
+    glass.shape = mesh;
+    glass.material.transmission = 0.99;
+    glass.material.diffuse = 0.0;
+    scene.objects.push_back(glass);
+    const std::vector<Triangle>& tris = mesh.triangles;
+    ASSERT_EQ(tris.size(), size_t(kLayers) * kGrid * kGrid * 2);
+
+    std::vector<TracePath> paths = {TracePath::Bvh};
+    if (testContext().deviceInfo().rayQuery) paths.push_back(TracePath::RayQuery);
+    for (TracePath path : paths) {
+        SCOPED_TRACE(path == TracePath::Bvh ? "BVH walk" : "ray queries");
+        RenderSettings settings = traceSettings(41, 31);
+        settings.trace = path;
+        Renderer renderer(testContext(), scene, settings);
+        RayTreeRecorder recorder(testContext());
+        RayTree tree = recorder.trace(renderer, 20, 15);
+        expectShadowsAgree(tree);
+        ASSERT_EQ(tree.rays[0].material, 0u) << "the centre pixel sees the floor";
+        ASSERT_EQ(tree.rays[0].shadowRayCount, 1u);
+        const gpu::RayTreeShadowRay& s = tree.shadowRays[tree.rays[0].firstShadowRay];
+
+        // Every triangle against the recorded ray (its float origin and direction), in (0, distance).
+        std::vector<std::pair<double, size_t>> expected;
+        for (size_t k = 0; k < tris.size(); ++k)
+            if (auto h = watertightTriangle(glm::dvec3(s.origin), glm::dvec3(s.direction), tris[k]);
+                h && h->t < double(s.distance))
+                expected.emplace_back(h->t, k);
+        std::sort(expected.begin(), expected.end());
+        ASSERT_EQ(expected.size(), size_t(kLayers)) << "the ray crosses every layer once";
+        EXPECT_EQ(tree.dropped, 0u);
+        EXPECT_EQ(s.droppedCrossings, 0u);
+        EXPECT_EQ(s.outcome, gpu::kShadowFiltered);
+        ASSERT_EQ(s.crossingCount, expected.size());
+        // The packed primitives name the triangles the record points at.
+        GpuScene packed = packScene(scene, settings);
+        for (size_t i = 0; i < expected.size(); ++i) {
+            const gpu::RayTreeCrossing& c = tree.crossings[s.firstCrossing + i];
+            const Triangle& want = tris[expected[i].second];
+            ASSERT_LT(c.primitive, packed.primitives.size());
+            const gpu::Primitive& got = packed.primitives[c.primitive];
+            EXPECT_TRUE(glm::vec3(got.a) == glm::vec3(want.v0) && glm::vec3(got.b) == glm::vec3(want.v1) &&
+                        glm::vec3(got.c) == glm::vec3(want.v2))
+                << "crossing " << i << ": primitive " << c.primitive << " is not triangle " << expected[i].second;
+            EXPECT_NEAR(c.t, expected[i].first, 1e-5 * expected[i].first) << "crossing " << i;
+            EXPECT_EQ(c.material, 1u);
+        }
+        const float want = std::pow(0.99f, float(kLayers));
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.visibility[c], want, 1e-3f * want);
+    }
 }
 
 // --max-depth bounds the tree.

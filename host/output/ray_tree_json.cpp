@@ -13,12 +13,16 @@ nlohmann::json rgbJson(glm::vec3 c) { return {c.r, c.g, c.b}; }
 
 // The full record: every field of every ray, shadow ray and crossing, the
 // objects named.
-nlohmann::json rayTreeJsonValue(const RayTree& tree, const Scene& scene) {
+nlohmann::json rayTreeJsonValue(const RayTree& tree, const Scene& scene, std::span<const uint64_t> objectIds) {
     auto object = [&](uint32_t material) -> nlohmann::json {
         if (material == gpu::kNoObject) return nullptr;
+        bool isObject = material < scene.objects.size();
+        nlohmann::json id = nullptr;  // a csg part's own material has none
+        if (isObject) id = material < objectIds.size() ? objectIds[material] : uint64_t(material);
         return {{"material", material},
+                {"id", id},
                 {"label", objectLabel(scene, material)},
-                {"name", material < scene.objects.size() ? scene.objects[material].name : ""}};
+                {"name", isObject ? scene.objects[material].name : ""}};
     };
     nlohmann::json rays = nlohmann::json::array();
     for (uint32_t i = 0; i < tree.rays.size(); ++i) {
@@ -45,14 +49,13 @@ nlohmann::json rayTreeJsonValue(const RayTree& tree, const Scene& scene) {
                           {"point", rgbJson(r.point)},
                           {"normal", rgbJson(r.normal)}};
         nlohmann::json shadows = nlohmann::json::array();
-        for (uint32_t s = r.firstShadowRay; s < r.firstShadowRay + r.shadowRayCount && s < tree.shadowRays.size(); ++s) {
-            const gpu::RayTreeShadowRay& sr = tree.shadowRays[s];
+        for (const gpu::RayTreeShadowRay& sr : tree.shadowRaysOf(i)) {
             nlohmann::json crossings = nlohmann::json::array();
-            for (uint32_t c = sr.firstCrossing; c < sr.firstCrossing + sr.crossingCount && c < tree.crossings.size(); ++c)
-                crossings.push_back({{"t", tree.crossings[c].t},
-                                     {"object", object(tree.crossings[c].material)},
-                                     {"primitive", tree.crossings[c].primitive},
-                                     {"filter", rgbJson(tree.crossings[c].filterColour)}});
+            for (const gpu::RayTreeCrossing& c : tree.crossingsOf(sr))
+                crossings.push_back({{"t", c.t},
+                                     {"object", object(c.material)},
+                                     {"primitive", c.primitive},
+                                     {"filter", rgbJson(c.filterColour)}});
             shadows.push_back({{"light", sr.light},
                                {"origin", rgbJson(sr.origin)},
                                {"direction", rgbJson(sr.direction)},
@@ -83,11 +86,13 @@ nlohmann::json rayTreeJsonValue(const RayTree& tree, const Scene& scene) {
 
 }  // namespace
 
-std::string rayTreeJson(const RayTree& tree, const Scene& scene) { return rayTreeJsonValue(tree, scene).dump(2) + "\n"; }
+std::string rayTreeJson(const RayTree& tree, const Scene& scene, std::span<const uint64_t> objectIds) {
+    return rayTreeJsonValue(tree, scene, objectIds).dump(2) + "\n";
+}
 
 std::string rayTreesJson(const std::vector<RayTree>& trees, const Scene& scene) {
     nlohmann::json all = nlohmann::json::array();
-    for (const RayTree& tree : trees) all.push_back(rayTreeJsonValue(tree, scene));
+    for (const RayTree& tree : trees) all.push_back(rayTreeJsonValue(tree, scene, {}));
     return all.dump(2) + "\n";
 }
 

@@ -458,6 +458,7 @@ public:
         Scene copy = scene;
         Versions versions = handle->versions;
         uint64_t id = handle->id;
+        const std::vector<uint64_t> objectIds = handle->objectIds;
         std::string text;
         {
             py::gil_scoped_release release;
@@ -465,7 +466,7 @@ public:
             uint32_t messagesBefore = ctx_->validationMessageCount();
             upload(copy, versions, id, s);
             if (!recorder_) recorder_ = std::make_unique<RayTreeRecorder>(*ctx_);
-            text = rayTreeJson(recorder_->trace(*renderer_, x, y), copy);
+            text = rayTreeJson(recorder_->trace(*renderer_, x, y), copy, objectIds);
             if (ctx_->validationMessageCount() != messagesBefore)
                 throw std::runtime_error("the Vulkan validation layer reported " +
                                          std::to_string(ctx_->validationMessageCount() - messagesBefore) +
@@ -623,7 +624,8 @@ void addRenderApi(py::module_& m) {
         .def("trace_pixel", &PyRenderer::tracePixel, py::arg("scene"), py::arg("x"), py::arg("y"), py::kw_only(),
              py::arg("width") = py::none(), py::arg("height") = py::none(), py::arg("max_depth") = 6,
              "The ray tree behind pixel (x, y) (the options of `whitted trace`): the dict `whitted trace --json` "
-             "prints. Bad values raise ValueError naming the argument before the device is touched")
+             "prints, each object with its \"id\" as result.masks and the object_id mask number it. Bad values raise "
+             "ValueError naming the argument before the device is touched")
         .def("render", &PyRenderer::render, py::arg("scene"), py::kw_only(), py::arg("width") = py::none(),
              py::arg("height") = py::none(), py::arg("spp") = 16, py::arg("aa") = "adaptive",
              py::arg("aa_threshold") = py::none(), py::arg("max_depth") = 6, py::arg("aovs") = py::tuple(),

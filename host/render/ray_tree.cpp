@@ -6,6 +6,7 @@
 #include "whitted_comp_ray_tree.h"            // kWhittedCompRayTreeSpv: shaders/whitted.comp with -DWHITTED_RAY_TREE
 #include "whitted_comp_ray_tree_ray_query.h"  // kWhittedCompRayTreeRayQuerySpv: the same with -DWHITTED_RAY_QUERY
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdio>
 #include <cstring>
@@ -58,6 +59,45 @@ std::vector<uint32_t> RayTree::children(uint32_t i) const {
     for (uint32_t j = 0; j < rays.size(); ++j)
         if (rays[j].parent == i) out.push_back(j);
     return out;
+}
+
+std::span<const gpu::RayTreeShadowRay> RayTree::shadowRaysOf(uint32_t i) const {
+    const gpu::RayTreeRay& r = rays[i];
+    size_t first = std::min<size_t>(r.firstShadowRay, shadowRays.size());
+    return std::span(shadowRays).subspan(first, std::min<size_t>(r.shadowRayCount, shadowRays.size() - first));
+}
+
+std::span<const gpu::RayTreeCrossing> RayTree::crossingsOf(const gpu::RayTreeShadowRay& shadow) const {
+    size_t first = std::min<size_t>(shadow.firstCrossing, crossings.size());
+    return std::span(crossings).subspan(first, std::min<size_t>(shadow.crossingCount, crossings.size() - first));
+}
+
+void RayTree::walk(const std::function<bool(uint32_t, int)>& enter, const std::function<void(uint32_t)>& leave) const {
+    // Each ray's children in the order traced (a ray's parent is traced
+    // before it), then a walk with an explicit stack: (ray, level, entered).
+    std::vector<std::vector<uint32_t>> childrenOf(rays.size());
+    std::vector<uint32_t> roots;
+    for (uint32_t j = 0; j < rays.size(); ++j)
+        (rays[j].parent < rays.size() ? childrenOf[rays[j].parent] : roots).push_back(j);
+    struct Step {
+        uint32_t ray;
+        int level;
+        bool leaving;
+    };
+    std::vector<Step> stack;
+    for (auto root = roots.rbegin(); root != roots.rend(); ++root) stack.push_back({*root, 0, false});
+    while (!stack.empty()) {
+        Step step = stack.back();
+        stack.pop_back();
+        if (step.leaving) {
+            if (leave) leave(step.ray);
+            continue;
+        }
+        if (!enter(step.ray, step.level)) continue;
+        stack.push_back({step.ray, step.level, true});
+        const std::vector<uint32_t>& children = childrenOf[step.ray];
+        for (auto c = children.rbegin(); c != children.rend(); ++c) stack.push_back({*c, step.level + 1, false});
+    }
 }
 
 const char* rayKindName(uint32_t kind) {
@@ -115,7 +155,7 @@ std::string rayTreeText(const RayTree& tree, const Scene& scene) {
     if (tree.dropped > 0)
         out += "(not fully recorded: " + std::to_string(tree.dropped) +
                " rays, shadow rays or crossings did not fit the record and are left out)\n";
-    std::function<void(uint32_t, int)> line = [&](uint32_t i, int indent) {
+    tree.walk([&](uint32_t i, int indent) {
         const gpu::RayTreeRay& r = tree.rays[i];
         std::string pad(size_t(2 * indent), ' ');
         out += pad + rayKindName(r.kind) + " [depth " + std::to_string(r.depth) + "] ";
@@ -128,25 +168,20 @@ std::string rayTreeText(const RayTree& tree, const Scene& scene) {
                    (r.frontFace ? " (outside)" : " (inside)");
         }
         out += "  contribution " + rgb(r.contribution) + "\n";
-        for (uint32_t s = r.firstShadowRay; s < r.firstShadowRay + r.shadowRayCount && s < tree.shadowRays.size(); ++s) {
-            const gpu::RayTreeShadowRay& sr = tree.shadowRays[s];
+        for (const gpu::RayTreeShadowRay& sr : tree.shadowRaysOf(i)) {
             out += pad + "  shadow ray to light " + std::to_string(sr.light) + ": " + shadowOutcomeName(sr.outcome);
             if (sr.outcome == gpu::kShadowBlocked) out += " by " + objectLabel(scene, sr.blockerMaterial);
             if (sr.outcome == gpu::kShadowFiltered && sr.crossingCount > 0) {
                 out += " by";
-                for (uint32_t c = sr.firstCrossing; c < sr.firstCrossing + sr.crossingCount && c < tree.crossings.size();
-                     ++c)
-                    out += " " + objectLabel(scene, tree.crossings[c].material) + " " +
-                           rgb(tree.crossings[c].filterColour);
+                for (const gpu::RayTreeCrossing& c : tree.crossingsOf(sr))
+                    out += " " + objectLabel(scene, c.material) + " " + rgb(c.filterColour);
             }
             if (sr.droppedCrossings > 0)
                 out += " (and " + std::to_string(sr.droppedCrossings) + " crossings not recorded)";
             out += "  diffuse " + rgb(sr.diffuse) + " specular " + rgb(sr.specular) + "\n";
         }
-        for (uint32_t c : tree.children(i)) line(c, indent + 1);
-    };
-    for (uint32_t i = 0; i < tree.rays.size(); ++i)
-        if (tree.rays[i].parent == gpu::kNoObject) line(i, 0);
+        return true;
+    });
     return out;
 }
 
@@ -206,6 +241,14 @@ RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
     tree.crossings.assign(record->crossings,
                           record->crossings + std::min(record->crossingCount, gpu::kRayTreeMaxCrossings));
     tree.dropped = record->dropped;
+    // The walk finds a shadow ray's crossings in the BVH's order (or the
+    // driver's): each shadow ray's are put in order along it.
+    for (const gpu::RayTreeShadowRay& s : tree.shadowRays) {
+        size_t first = std::min<size_t>(s.firstCrossing, tree.crossings.size());
+        size_t end = std::min<size_t>(first + s.crossingCount, tree.crossings.size());
+        std::stable_sort(tree.crossings.begin() + ptrdiff_t(first), tree.crossings.begin() + ptrdiff_t(end),
+                         [](const gpu::RayTreeCrossing& a, const gpu::RayTreeCrossing& b) { return a.t < b.t; });
+    }
     return tree;
 }
 

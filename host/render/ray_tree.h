@@ -16,7 +16,9 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,13 +30,24 @@ struct RayTree {
     int maxDepth = 0;
     std::vector<gpu::RayTreeRay> rays;  // in the order traced; rays[0] the camera ray
     std::vector<gpu::RayTreeShadowRay> shadowRays;
-    std::vector<gpu::RayTreeCrossing> crossings;
+    std::vector<gpu::RayTreeCrossing> crossings;  // each shadow ray's in order along it (by t)
     uint32_t dropped = 0;  // rays, shadow rays or crossings beyond the record's capacity (device_types.h)
 
     // The sum of the rays' contributions: the pixel's colour.
     glm::vec3 color() const;
     // The rays spawned by ray i, in the order traced.
     std::vector<uint32_t> children(uint32_t i) const;
+    // Ray i's shadow rays, and a shadow ray's crossings, as far as the
+    // record holds them (what did not fit is counted in `dropped`).
+    std::span<const gpu::RayTreeShadowRay> shadowRaysOf(uint32_t i) const;
+    std::span<const gpu::RayTreeCrossing> crossingsOf(const gpu::RayTreeShadowRay& shadow) const;
+    // The one walk of the tree, for every view of it (the text of `whitted
+    // trace`, the window's panel): depth first from each root (the camera
+    // ray), a ray's children in the order traced. enter(ray, level) comes
+    // first (level 0 for a root) and says whether to go into the ray's
+    // children; leave(ray) follows them, for each ray entered into.
+    void walk(const std::function<bool(uint32_t ray, int level)>& enter,
+              const std::function<void(uint32_t ray)>& leave = {}) const;
 };
 
 // Names for the record's tags: "camera", "reflection", "refraction",

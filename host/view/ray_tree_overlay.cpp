@@ -165,51 +165,53 @@ void drawRayTreeView(RayTreeView& view, const Scene& scene, const Camera& camera
         ImGui::SameLine();
         ImGui::Text("pixel colour %s = sum of %zu contributions", rgbText(tree.color()).c_str(), tree.rays.size());
         if (tree.dropped > 0) ImGui::TextColored(ImVec4(1, 0.5f, 0, 1), "%u rays left out (record full)", tree.dropped);
-        std::function<void(uint32_t)> node = [&](uint32_t i) {
-            const gpu::RayTreeRay& r = tree.rays[i];
-            std::string what = r.primitive == gpu::kNoObject
-                                   ? std::string("misses")
-                                   : std::string(shapeName(r.shape)) + " of " + objectLabel(scene, r.material);
-            char label[256];
-            std::snprintf(label, sizeof label, "%s: %s  t %.3g###ray%u", rayKindName(r.kind), what.c_str(), r.t, i);
-            ImGuiTreeNodeFlags flags = ImGuiTreeNodeFlags_DefaultOpen | ImGuiTreeNodeFlags_SpanAvailWidth;
-            if (int(i) == view.hoveredRay) flags |= ImGuiTreeNodeFlags_Selected;
-            ImGui::PushStyleColor(ImGuiCol_Text, ImGui::ColorConvertU32ToFloat4(rayColour(r.kind)));
-            bool open = ImGui::TreeNodeEx(label, flags);
-            ImGui::PopStyleColor();
-            if (ImGui::IsItemHovered()) panelRay = int(i);
-            ImGui::SameLine();
-            swatch(("##c" + std::to_string(i)).c_str(), r.contribution);
-            ImGui::SameLine();
-            ImGui::Text("%s", rgbText(r.contribution).c_str());
-            if (!open) return;
-            for (uint32_t s = r.firstShadowRay; s < r.firstShadowRay + r.shadowRayCount && s < tree.shadowRays.size();
-                 ++s) {
-                const gpu::RayTreeShadowRay& sr = tree.shadowRays[s];
-                std::string outcome = shadowOutcomeName(sr.outcome);
-                if (sr.outcome == gpu::kShadowBlocked) outcome += " by " + objectLabel(scene, sr.blockerMaterial);
-                for (uint32_t c = sr.firstCrossing; sr.outcome == gpu::kShadowFiltered &&
-                                                    c < sr.firstCrossing + sr.crossingCount && c < tree.crossings.size();
-                     ++c)
-                    outcome += (c == sr.firstCrossing ? " by " : ", ") + objectLabel(scene, tree.crossings[c].material) +
-                               " (" + rgbText(tree.crossings[c].filterColour) + ")";
-                bool selected = int(s) == view.hoveredShadowRay;
-                ImGui::PushStyleColor(ImGuiCol_Text, ImGui::ColorConvertU32ToFloat4(
-                                                         sr.outcome == gpu::kShadowBlocked ? kOverlayBlockedColour
-                                                                                           : kOverlayShadowColour));
-                ImGui::Selectable(("shadow ray to light " + std::to_string(sr.light) + ": " + outcome + "##s" +
-                                   std::to_string(s)).c_str(),
-                                  selected);
+        tree.walk(
+            [&](uint32_t i, int) {
+                const gpu::RayTreeRay& r = tree.rays[i];
+                std::string what = r.primitive == gpu::kNoObject
+                                       ? std::string("misses")
+                                       : std::string(shapeName(r.shape)) + " of " + objectLabel(scene, r.material);
+                char label[256];
+                std::snprintf(label, sizeof label, "%s: %s  t %.3g###ray%u", rayKindName(r.kind), what.c_str(), r.t, i);
+                ImGuiTreeNodeFlags flags = ImGuiTreeNodeFlags_DefaultOpen | ImGuiTreeNodeFlags_SpanAvailWidth;
+                if (int(i) == view.hoveredRay) flags |= ImGuiTreeNodeFlags_Selected;
+                ImGui::PushStyleColor(ImGuiCol_Text, ImGui::ColorConvertU32ToFloat4(rayColour(r.kind)));
+                bool open = ImGui::TreeNodeEx(label, flags);
                 ImGui::PopStyleColor();
-                if (ImGui::IsItemHovered()) panelShadow = int(s);
+                if (ImGui::IsItemHovered()) panelRay = int(i);
                 ImGui::SameLine();
-                swatch(("##l" + std::to_string(s)).c_str(), r.weight * (sr.diffuse + sr.specular));
-            }
-            for (uint32_t c : tree.children(i)) node(c);
-            ImGui::TreePop();
-        };
-        for (uint32_t i = 0; i < tree.rays.size(); ++i)
-            if (tree.rays[i].parent == gpu::kNoObject) node(i);
+                swatch(("##c" + std::to_string(i)).c_str(), r.contribution);
+                ImGui::SameLine();
+                ImGui::Text("%s", rgbText(r.contribution).c_str());
+                if (!open) return false;
+                std::span<const gpu::RayTreeShadowRay> shadows = tree.shadowRaysOf(i);
+                for (size_t k = 0; k < shadows.size(); ++k) {
+                    const gpu::RayTreeShadowRay& sr = shadows[k];
+                    int s = int(r.firstShadowRay + k);
+                    std::string outcome = shadowOutcomeName(sr.outcome);
+                    if (sr.outcome == gpu::kShadowBlocked) outcome += " by " + objectLabel(scene, sr.blockerMaterial);
+                    if (sr.outcome == gpu::kShadowFiltered) {
+                        const char* separator = " by ";
+                        for (const gpu::RayTreeCrossing& c : tree.crossingsOf(sr)) {
+                            outcome += separator + objectLabel(scene, c.material) + " (" + rgbText(c.filterColour) + ")";
+                            separator = ", ";
+                        }
+                    }
+                    bool selected = s == view.hoveredShadowRay;
+                    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::ColorConvertU32ToFloat4(
+                                                             sr.outcome == gpu::kShadowBlocked ? kOverlayBlockedColour
+                                                                                               : kOverlayShadowColour));
+                    ImGui::Selectable(("shadow ray to light " + std::to_string(sr.light) + ": " + outcome + "##s" +
+                                       std::to_string(s)).c_str(),
+                                      selected);
+                    ImGui::PopStyleColor();
+                    if (ImGui::IsItemHovered()) panelShadow = s;
+                    ImGui::SameLine();
+                    swatch(("##l" + std::to_string(s)).c_str(), r.weight * (sr.diffuse + sr.specular));
+                }
+                return true;
+            },
+            [](uint32_t) { ImGui::TreePop(); });
     }
     ImGui::End();
     // Next frame highlights what the cursor is over now, in the image or the panel.

@@ -30,6 +30,25 @@ def test_trace_pixel_equals_the_cli(renderer, path):
         assert got["pixel"] == [x, y] and got["rays"][0]["kind"] == "camera"
 
 
+# An object in the tree carries the id the object_id mask and result.masks give it, which after a removal is no
+# longer its index in the scene's list.
+def test_trace_pixel_names_objects_by_their_mask_ids(renderer):
+    import whitted
+    scene = whitted.Scene()
+    scene.camera.position, scene.camera.look_at = (0, 0, 5), (0, 0, 0)
+    scene.add_light(position=(0, 5, 5), color=(1, 1, 1))
+    first = scene.add_sphere((-1.5, 0, 0), 0.5, name="first")
+    scene.add_sphere((1.5, 0, 0), 0.5, name="second")
+    scene.remove(first)
+    scene.add_sphere((0, 0, 0), 0.5, name="third")
+    result = renderer.render(scene, width=64, height=48, aovs=("object_id",))
+    legend = {v["name"]: k for k, v in result.masks.items()}
+    assert legend["third"] != 1  # the index of "third" in the scene's list
+    for x, name in ((32, "third"), (47, "second")):
+        obj = renderer.trace_pixel(scene, x, 24, width=64, height=48)["rays"][0]["hit"]["object"]
+        assert obj["name"] == name and obj["id"] == legend[name] == result.aovs["object_id"][24, x]
+
+
 def test_trace_pixel_refuses_bad_values(renderer):
     import whitted
     scene = whitted.load(str(SCENES[0]))
