@@ -33,6 +33,20 @@ SceneHandle::SceneHandle(Scene s) : scene(std::make_shared<Scene>(std::move(s)))
 
 namespace {
 
+// Scene.copy(): an independent scene (a new handle, so a renderer uploads
+// it afresh) that keeps the original's object and light ids, the ids still
+// to come and each object's transform, so its masks and legend number the
+// objects as the original's do.
+SceneRef copyHandle(const SceneRef& s) {
+    auto c = std::make_shared<SceneHandle>(*s->scene);
+    c->objectIds = s->objectIds;
+    c->lightIds = s->lightIds;
+    c->nextObjectId = s->nextObjectId;
+    c->nextLightId = s->nextLightId;
+    c->transforms = s->transforms;
+    return c;
+}
+
 using xml::Range;
 constexpr Range kColourRange = xml::kUnitInterval;
 constexpr Range kIor = kIorRange;
@@ -1139,11 +1153,10 @@ void addSceneApi(py::module_& m) {
                 return sceneXml(*s->scene);
             },
             "the scene file's text")
-        .def(
-            "copy", [](const SceneRef& s) { return std::make_shared<SceneHandle>(*s->scene); },
-            "an independent copy (textures are shared, read-only)")
-        .def("__copy__", [](const SceneRef& s) { return std::make_shared<SceneHandle>(*s->scene); })
-        .def("__deepcopy__", [](const SceneRef& s, py::dict) { return std::make_shared<SceneHandle>(*s->scene); })
+        .def("copy", &copyHandle,
+             "an independent copy with the same object ids and transforms (textures are shared, read-only)")
+        .def("__copy__", &copyHandle)
+        .def("__deepcopy__", [](const SceneRef& s, py::dict) { return copyHandle(s); })
         .def("__repr__", [](const SceneRef& s) {
             return "Scene('" + s->scene->sourcePath.string() + "', " + std::to_string(s->scene->objects.size()) +
                    " objects, " + std::to_string(s->scene->lights.size()) + " lights)";

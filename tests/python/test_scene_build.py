@@ -222,6 +222,30 @@ def test_masks_legend_ids_are_stable_across_add_and_remove():
     assert [m["object"] for m in second.record["masks"]["materials"]] == [1, 2, 3, 4]
 
 
+# Scene.copy() continues the original's numbering: the same ids (after a removal too), the same next id, the
+# same transforms; the copy is independent of the original.
+def test_copy_keeps_ids_and_transforms():
+    import copy
+    scene = built_scene()
+    scene.remove(scene.objects[0])
+    ball = next(o for o in scene.objects if o.name == "ball")
+    move = np.eye(4)
+    move[:3, 3] = (0.2, 0.1, 0.0)
+    ball.transform = move
+    renderer = whitted.Renderer()
+    for make in (lambda s: s.copy(), copy.copy, copy.deepcopy):
+        twin = make(scene)
+        a = renderer.render(scene, aovs=("object_id",))
+        b = renderer.render(twin, aovs=("object_id",))
+        assert a.masks == b.masks and np.array_equal(a.aovs["object_id"], b.aovs["object_id"])
+        np.testing.assert_array_equal(next(o for o in twin.objects if o.name == "ball").transform, move)
+        twin.add_sphere((0, 0.3, 1.5), 0.3, name="new")
+        scene.add_sphere((0, 0.3, 1.5), 0.3, name="new")
+        assert renderer.render(twin, aovs=("object_id",)).masks == renderer.render(scene, aovs=("object_id",)).masks
+        scene.remove(scene.objects[-1])
+        assert len(twin.objects) == len(scene.objects) + 1  # independent
+
+
 def test_module_holds_no_window_code():
     # The scene edits it shares with the window's editor panel live in
     # host/scene/shape_edit.h, so no ImGui or GLFW code is linked in.
