@@ -4,7 +4,7 @@
   tools/benchmark.py [--quick] [--only NAME[,NAME..]] [--skip-povray] [--sizes small,full]
                      [--full-scenes NAME[,NAME..]|all] [--skip-fixed] [--skip-equal-quality] [--skip-embree]
                      [--driver-files ICD.json|default [--label NAME]]... [--fresh-references]
-                     [--build DIR] [--out DIR] [--skip-cold-start | --cold-start-only]
+                     [--build DIR] [--out DIR] [--skip-soft] [--skip-cold-start | --cold-start-only]
 
 Two parts, both against POV-Ray measured in the same run (whitted and POV-Ray runs interleaved scene by scene,
 so load from other jobs hits both):
@@ -33,6 +33,13 @@ every try's time and PSNR is recorded. References are not timed; they are cached
 the binary's or POV-Ray's version, the scene's bytes and the options; --fresh-references renders them again), and
 whitted's reference is rendered by the first driver and shared by the others (the record says which; the JSON also
 holds each driver's PSNR against the first driver's default render).
+
+Distribution ("soft"): scenes/soft.xml (two area lights, glossy metal, rough glass, a lens) at 320x180, time to a
+clean image against POV-Ray's area_light + focal_blur render of its export (whose mirrors stay sharp: POV-Ray has no
+glossy reflection). Each renderer's reference is its own at 256 samples (whitted `--aa uniform --spp 256`, POV-Ray
+blur_samples 256, which also antialias); tries until within 45 dB of it: whitted its default render, then `--aa
+uniform --spp` 32, 64, 128; POV-Ray blur_samples 8, 16, 32, 64, 128 (all traced), the area lights' jittered grids
+as the scene's <shadow_samples>. `--skip-soft` leaves it out; `--only soft` runs it alone.
 
 Window proxy: `whitted render room.xml --width 640 --height 360 --aa uniform --spp 1 --aov none`, 5 times per
 driver, render time from the record (the live window's frame during a camera drag traces this much).
@@ -70,7 +77,7 @@ sys.dont_write_bytecode = True  # a run leaves no __pycache__ in the source tree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))  # tools/bench, from any working directory
 from bench import ROOT, fail  # noqa: E402 (after the path is set)
 from bench.check import quick_check  # noqa: E402
-from bench.parts import Bench, cold_start, drag_proxy, run_scenes, warm_start  # noqa: E402
+from bench.parts import Bench, cold_start, drag_proxy, run_scenes, soft_quality, warm_start  # noqa: E402
 from bench.plan import COLD_REPEATS, DRAG_REPEATS, STARTUP_REPEATS, Plan, equal_quality_sizes, scene_set, size_set  # noqa: E402
 from bench.report import cpu_model, document, publish  # noqa: E402
 from bench.runners import Driver  # noqa: E402
@@ -81,7 +88,7 @@ def parse_args():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--quick", action="store_true", help="tiny scenes and sizes; checks the output, not times")
     parser.add_argument("--only", action="append", default=[], help="scene names (room, spheres100, spheres10k, "
-                        "mesh1m), comma-separated or repeated")
+                        "mesh1m; soft: the distribution part), comma-separated or repeated")
     parser.add_argument("--sizes", default="small,full", help="fixed-spp sizes: small (640x480 1 spp), full "
                         "(1920x1080 16 spp)")
     parser.add_argument("--full-scenes", default="room", help="scenes rendered at the full size [room]; all = every "
@@ -97,6 +104,7 @@ def parse_args():
     parser.add_argument("--equal-quality-size", default=None, metavar="WxH", help="one size for every scene's "
                         "equal-quality part [room 1920x1080, the others 640x480]")
     parser.add_argument("--fresh-references", action="store_true", help="render the 64-sample references again")
+    parser.add_argument("--skip-soft", action="store_true", help="no distribution part (scenes/soft.xml)")
     parser.add_argument("--skip-cold-start", action="store_true", help="no cold-start part")
     parser.add_argument("--cold-start-only", action="store_true", help="only the cold-start part (no POV-Ray, no "
                         "other part)")
@@ -114,13 +122,13 @@ def plan_from(args):
         if args.skip_cold_start or args.only not in ([], ["room"]):
             fail("--cold-start-only: it renders the room only; no --skip-cold-start, no other --only")
         args.only, args.skip_fixed, args.skip_equal_quality, args.skip_povray = ["room"], True, True, True
-        args.skip_embree = True
+        args.skip_embree = args.skip_soft = True
     scenes = scene_set(args.quick)
     sizes = size_set(args.quick)
     only = [n for item in args.only for n in item.split(",") if n]
     for n in only:
-        if n not in scenes:
-            fail(f"--only: unknown scene '{n}', expected one of {', '.join(scenes)}")
+        if n not in scenes and n != "soft":
+            fail(f"--only: unknown scene '{n}', expected one of {', '.join(scenes)}, soft")
     chosen_sizes = [s for s in args.sizes.split(",") if s]
     for s in chosen_sizes:
         if s not in sizes:
@@ -140,7 +148,9 @@ def plan_from(args):
                 sizes=[] if args.skip_fixed else [(s, sizes[s]) for s in chosen_sizes], full_scenes=full_scenes,
                 equal_quality_sizes=sizes_eq, fixed=not args.skip_fixed, equal_quality=not args.skip_equal_quality,
                 povray=not args.skip_povray, fresh_references=args.fresh_references,
-                cold_start=not args.skip_cold_start and (not only or "room" in only))
+                cold_start=not args.skip_cold_start and (not only or "room" in only),
+                soft=not args.skip_soft and not args.skip_equal_quality and (not only or "soft" in only),
+                soft_size=(64, 36) if args.quick else (320, 180))
 
 
 def drivers_from(args):
@@ -196,6 +206,9 @@ def main():
           + "; ".join(f"{d.label} = {d.driver}" for d in drivers), flush=True)
 
     results, eq_results = run_scenes(bench, plan)
+    soft = None
+    if plan.soft:
+        soft = soft_quality(bench, *plan.soft_size, plan.fresh_references)
     drag = None
     if plan.fixed and "room" in plan.scenes:
         drag = drag_proxy(bench, 1 if plan.quick else DRAG_REPEATS)
@@ -209,7 +222,7 @@ def main():
 
     documents = {d.label: document(d, drivers, cpu, plan, elapsed, results[d.label], eq_results[d.label],
                                    drag and drag[d.label], warm and warm[d.label],
-                                   cold and cold[d.label]) for d in drivers}
+                                   cold and cold[d.label], soft and soft[d.label]) for d in drivers}
     publish(documents, out, elapsed)
     if plan.quick:
         quick_check(documents, out, plan)

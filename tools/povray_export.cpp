@@ -1,7 +1,7 @@
 // whitted_povray_export: writes a scene file as POV-Ray 3.7 SDL (see
 // host/scene/povray_export.h and tests/README.md "Cross-check against POV-Ray").
 //
-//   whitted_povray_export SCENE.xml OUT.pov [--width W] [--height H] [--max-depth D]
+//   whitted_povray_export SCENE.xml OUT.pov [--width W] [--height H] [--max-depth D] [--blur-samples N]
 //   povray -D +WW +HH +FE File_Gamma=1.0 +IOUT.pov +Oout.exr
 //
 // Exit statuses as whitted's: 0 success, 1 I/O failure, 2 bad input (the
@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
     app.add_option("--height", options.height, "image height in pixels [scene's]")->check(CLI::Range(1, int(gpu::kMaxImageSide)));
     app.add_option("--max-depth", options.maxDepth, "secondary bounces; 0 = local shading only")
         ->check(CLI::Range(0, int(gpu::kMaxDepthLimit)))->capture_default_str();
+    app.add_option("--blur-samples", options.blurSamples, "focal_blur rays per pixel, all traced (a camera with a lens)")
+        ->check(CLI::Range(1, 4096))->capture_default_str();
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -56,12 +56,17 @@ def problems(label, document, plan):
             for r in document["results"] if r["whitted"]["lost_samples"] != 0]
     bad += [f"{label} {r['scene']} equal quality: {name} = {value}" for r in document["equal_quality"]
             for name, value in equal_quality_counts(r) if not positive(value)]
-    if plan.fixed and not document["results"]:
+    if plan.fixed and plan.scenes and not document["results"]:
         bad.append(f"{label}: no fixed-spp results")
-    if plan.equal_quality and not document["equal_quality"]:
+    if plan.equal_quality and plan.scenes and not document["equal_quality"]:
         bad.append(f"{label}: no equal-quality results")
     if document["drag_proxy"] and not all(t > 0 for t in document["drag_proxy"]["render_s"]):
         bad.append(f"{label}: drag proxy render times {document['drag_proxy']['render_s']}")
+    soft = document.get("soft")
+    if plan.soft and not (soft and soft["whitted"]["tries"] and all(t["wall_s"] > 0 for t in soft["whitted"]["tries"])):
+        bad.append(f"{label}: no distribution (soft) results")
+    if soft and plan.povray and not (soft["povray"] and soft["povray"]["tries"]):
+        bad.append(f"{label}: no POV-Ray tries in the distribution (soft) part")
     cold = document.get("cold_start")
     if cold and not all(r["wall_s"] > 0 for r in cold["cold"] + cold["warm"]):
         bad.append(f"{label}: cold start times {cold['cold']} {cold['warm']}")

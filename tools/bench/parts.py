@@ -12,6 +12,7 @@ import tempfile
 
 from .measures import clean, psnr
 from .plan import (DRAG_SIZE, STARTUP_SIZE, MAX_DEPTH, POVRAY_ADAPTIVE, POVRAY_REFERENCE, POVRAY_THRESHOLDS, PSNR_TARGET_DB, ROOM,
+                   SOFT, SOFT_POVRAY_BLUR_SAMPLES, SOFT_REFERENCE_SAMPLES, SOFT_TARGET_DB, SOFT_WHITTED_TRIES,
                    WHITTED_REFERENCE, WHITTED_TRIES, povray_fixed_antialias)
 from .measures import read_record
 from .runners import export_pov, make_scene, povray_version, run, run_anchor, run_povray, run_whitted, sha256_file
@@ -277,4 +278,69 @@ def cold_start(bench, repeats):
                         "warm": warm[d.label], "cold_wall_median_s": statistics.median(cold_walls),
                         "warm_wall_median_s": statistics.median(warm_walls),
                         "compile_median_s": statistics.median(c - w for c, w in zip(cold_walls, warm_walls))}
+    return out
+
+
+def soft_quality(bench, width, height, fresh):
+    """Time to a clean image of scenes/soft.xml (area lights, glossy metal and glass, a lens) for every driver and
+    for POV-Ray (area_light + focal_blur; its mirrors stay sharp: povray_export.h). Each renderer's reference is
+    its own at SOFT_REFERENCE_SAMPLES (whitted uniform, POV-Ray blur_samples; not timed, cached); then tries in
+    order (SOFT_WHITTED_TRIES, SOFT_POVRAY_BLUR_SAMPLES), interleaved, until within SOFT_TARGET_DB of it. Time to a
+    clean image = whole-process wall time of the first try that reaches it. Returns label -> result."""
+    tag = f"soft_{width}x{height}"
+    progress(f"soft {width}x{height}: references")
+    first = bench.drivers[0]
+    reference_flags = ["--aa", "uniform", "--spp", str(SOFT_REFERENCE_SAMPLES)]
+    key = reference_key("whitted", sha256_file(bench.whitted, os.environ.get("WHITTED_SHADER_SPV", "")),
+                        sha256_file(SOFT), f"{width}x{height}", *reference_flags, MAX_DEPTH)
+    reference, reference_record = cached_reference(os.path.join(bench.work, "references"), key, lambda path: dict(
+        run_whitted(bench.whitted, first, SOFT, path, width, height, reference_flags), reference_driver=first.label),
+        fresh)
+    pov_reference = pov_reference_record = None
+    if bench.exporter:
+        pov = export_pov(bench.exporter, SOFT, bench.work, f"{tag}_ref", width, height, SOFT_REFERENCE_SAMPLES)
+        version = povray_version()
+        key = reference_key("povray", version, sha256_file(pov), f"{width}x{height}")
+        pov_reference, pov_reference_record = cached_reference(os.path.join(bench.work, "references"), key,
+                                                               lambda path: dict(run_povray(pov, path, width, height,
+                                                                                            []), version=version),
+                                                               fresh)
+    ours = {d.label: {"reference": reference_record, "tries": [], "reached": None, "time_to_clean_s": None}
+            for d in bench.drivers}
+    theirs = {"reference": pov_reference_record, "tries": [], "reached_blur_samples": None, "time_to_clean_s": None}
+    for step in range(max(len(SOFT_WHITTED_TRIES), len(SOFT_POVRAY_BLUR_SAMPLES))):
+        for d in bench.drivers:
+            mine = ours[d.label]
+            if mine["reached"] is not None or step >= len(SOFT_WHITTED_TRIES):
+                continue
+            flags = SOFT_WHITTED_TRIES[step]
+            image = os.path.join(bench.work, f"{tag}_{d.label}_try{step}.png")
+            progress(f"soft {width}x{height} whitted {d.label} {' '.join(flags) or 'default'}")
+            result = run_whitted(bench.whitted, d, SOFT, image, width, height, flags)
+            result["psnr_db"] = psnr(image, reference)
+            mine["tries"].append(result)
+            if result["psnr_db"] is None or result["psnr_db"] >= SOFT_TARGET_DB:
+                mine["reached"] = step
+                mine["time_to_clean_s"] = result["wall_s"]
+        if pov_reference and step < len(SOFT_POVRAY_BLUR_SAMPLES) and theirs["reached_blur_samples"] is None:
+            samples = SOFT_POVRAY_BLUR_SAMPLES[step]
+            pov = export_pov(bench.exporter, SOFT, bench.work, f"{tag}_blur{samples}", width, height, samples)
+            image = os.path.join(bench.work, f"{tag}_povray_blur{samples}.png")
+            progress(f"soft {width}x{height} POV-Ray blur_samples {samples}")
+            result = run_povray(pov, image, width, height, [])
+            result["blur_samples"] = samples
+            result["psnr_db"] = psnr(image, pov_reference)
+            theirs["tries"].append(result)
+            if result["psnr_db"] is None or result["psnr_db"] >= SOFT_TARGET_DB:
+                theirs["reached_blur_samples"] = samples
+                theirs["time_to_clean_s"] = result["wall_s"]
+    out = {}
+    for d in bench.drivers:
+        entry = {"scene": "soft", "width": width, "height": height, "psnr_target_db": SOFT_TARGET_DB,
+                 "reference_samples": SOFT_REFERENCE_SAMPLES, "whitted": ours[d.label],
+                 "povray": theirs if pov_reference else None}
+        if pov_reference and theirs["time_to_clean_s"] and ours[d.label]["time_to_clean_s"]:
+            entry["povray_over_whitted"] = {"time_to_clean": theirs["time_to_clean_s"] /
+                                            ours[d.label]["time_to_clean_s"]}
+        out[d.label] = entry
     return out

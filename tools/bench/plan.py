@@ -20,6 +20,16 @@ DRAG_REPEATS = 5
 STARTUP_SIZE = (8, 8)  # the warm-start part: the fixed cost of a render
 STARTUP_REPEATS = 7
 COLD_REPEATS = 5  # the cold-start part: README command 1's render with empty caches
+# The distribution part (scenes/soft.xml: area lights, gloss, a lens): each renderer's own reference at
+# SOFT_REFERENCE_SAMPLES, then tries in order until within SOFT_TARGET_DB of it. whitted: its default render,
+# then uniform sample counts; POV-Ray: focal_blur blur_samples (all traced; they also antialias), the area
+# lights' jittered grids as the scene's <shadow_samples>.
+SOFT = os.path.join(ROOT, "scenes", "soft.xml")
+SOFT_TARGET_DB = 45.0  # scenes/README.md "Clean images": the default render of a soft shadow reaches it
+SOFT_REFERENCE_SAMPLES = 256
+SOFT_WHITTED_TRIES = [[], ["--aa", "uniform", "--spp", "32"], ["--aa", "uniform", "--spp", "64"],
+                      ["--aa", "uniform", "--spp", "128"]]
+SOFT_POVRAY_BLUR_SAMPLES = [8, 16, 32, 64, 128]
 
 
 @dataclasses.dataclass
@@ -35,6 +45,8 @@ class Plan:
     povray: bool
     fresh_references: bool
     cold_start: bool = True  # the cold-start part runs (when the room is among the scenes)
+    soft: bool = True  # the distribution part runs (scenes/soft.xml at soft_size)
+    soft_size: tuple = (320, 180)
 
 
 def scene_set(quick):

@@ -27,7 +27,7 @@ def cpu_model():
     return model or platform.processor() or "?", flags or []
 
 
-def document(driver, drivers, cpu, plan, elapsed, results, equal_quality, drag, warm, cold=None):
+def document(driver, drivers, cpu, plan, elapsed, results, equal_quality, drag, warm, cold=None, soft=None):
     """One driver's document: the machine, the driver, its results, the ratios and the targets' verdicts."""
     model, simd = cpu
     out = {"created": time.strftime("%Y-%m-%dT%H:%M:%S%z"), "host": platform.node(),
@@ -36,7 +36,7 @@ def document(driver, drivers, cpu, plan, elapsed, results, equal_quality, drag, 
            "driver_files": driver.files, "ld_library_path": driver.env.get("LD_LIBRARY_PATH") if driver.files else None,
            "drivers_in_run": [x.label for x in drivers], "benchmark_wall_s": elapsed,
            "results": results, "equal_quality": equal_quality, "drag_proxy": drag, "warm_start": warm,
-           "cold_start": cold,
+           "cold_start": cold, "soft": soft,
            "ratios": ratios(results, plan.sizes)}
     out["targets"] = targets(out)
     return out
@@ -89,6 +89,8 @@ def print_summary(document):
         print(f"warm start  {warm['width']}x{warm['height']} whole process: PPM median "
               f"{warm['ppm']['wall_median_s'] * 1000:.0f} ms, PNG median {warm['png']['wall_median_s'] * 1000:.0f} ms "
               f"of {len(warm['ppm']['wall_s'])}", flush=True)
+    if document.get("soft"):
+        print_soft(document["soft"])
     cold = document.get("cold_start")
     if cold:
         print(f"cold start  {cold['command']}, empty shader caches, whole process: median "
@@ -150,6 +152,27 @@ def print_equal_quality(r):
     if pov:
         verdict += ", POV-Ray " + reached(pov["time_to_clean_s"], pov["tries"], f"+A{pov['reached_threshold']}")
     if "povray_over_whitted" in r and "time_to_clean" in r["povray_over_whitted"]:
+        verdict += f"  POV-Ray/whitted {r['povray_over_whitted']['time_to_clean']:.2f}x"
+    print(verdict, flush=True)
+
+
+def print_soft(r):
+    """The distribution part: each renderer's tries against its own reference, and when each got clean."""
+    mine, pov = r["whitted"], r["povray"]
+    print(f"soft        {r['width']}x{r['height']} time to >= {r['psnr_target_db']:.0f} dB of each one's own "
+          f"{r['reference_samples']}-sample reference", flush=True)
+    for t in mine["tries"]:
+        print(f"{'':13s}whitted {t['sampling']:22s} wall {t['wall_s']:.2f} s  render {t['render_s']:.2f} s  "
+              f"{t['mean_spp']:.2f} spp  {fmt_db(t['psnr_db'])}", flush=True)
+    for t in (pov or {}).get("tries", []):
+        print(f"{'':13s}POV-Ray blur_samples {t['blur_samples']:<9} wall {t['wall_s']:.2f} s  render {t['render_s']} s"
+              f"  {fmt_db(t['psnr_db'])}", flush=True)
+    how = mine["reached"] is not None and mine["tries"][mine["reached"]]["sampling"]
+    verdict = f"{'':13s}clean: whitted " + reached(mine["time_to_clean_s"], mine["tries"], how)
+    if pov:
+        verdict += ", POV-Ray " + reached(pov["time_to_clean_s"], pov["tries"],
+                                          f"blur_samples {pov['reached_blur_samples']}")
+    if "povray_over_whitted" in r:
         verdict += f"  POV-Ray/whitted {r['povray_over_whitted']['time_to_clean']:.2f}x"
     print(verdict, flush=True)
 

@@ -142,11 +142,13 @@ def run_anchor(anchor, scene, width, height, spp):
     return result
 
 
-def export_pov(exporter, scene, work, tag, width, height):
-    """Exports a scene to WORK/TAG.pov for POV-Ray at the given size and whitted's maximum depth."""
+def export_pov(exporter, scene, work, tag, width, height, blur_samples=None):
+    """Exports a scene to WORK/TAG.pov for POV-Ray at the given size and whitted's maximum depth (with a lens:
+    focal_blur's blur_samples, else the exporter's default)."""
     pov = os.path.join(work, tag + ".pov")
+    blur = ["--blur-samples", str(blur_samples)] if blur_samples else []
     status, output, _, _ = run([exporter, scene, pov, "--width", str(width), "--height", str(height),
-                                "--max-depth", str(MAX_DEPTH)])
+                                "--max-depth", str(MAX_DEPTH), *blur])
     if status != 0:
         fail(f"whitted_povray_export failed on {scene} (exit {status}):\n{output}", 1)
     return pov
