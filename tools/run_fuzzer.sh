@@ -30,7 +30,7 @@ build=build-fuzz
 models=/usr/share/assimp/models
 
 cmake -S . -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DWHITTED_FUZZ=ON -DWHITTED_BUILD_TESTS=OFF >/dev/null
+  -DWHITTED_FUZZ=ON -DWHITTED_BUILD_TESTS=OFF -DCMAKE_UNITY_BUILD=OFF >/dev/null
 cmake --build "$build" --target "${targets[@]/%/_fuzzer}"
 
 export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}

@@ -19,7 +19,7 @@ namespace whitted {
 namespace {
 
 // The scene format's limit on any coordinate (scenes/README.md "Scene files").
-constexpr double kMaxMagnitude = 1e6;
+constexpr double kMaxMeshMagnitude = 1e6;
 
 bool finiteWithin(const glm::dvec3& v, double limit) {
     for (int i = 0; i < 3; ++i)
@@ -152,7 +152,7 @@ MeshFileData readMeshFile(const std::filesystem::path& path, MeshFileMaterials w
             for (int k = 0; k < 3; ++k) {
                 const aiVector3D& v = mesh->mVertices[face.mIndices[k]];
                 triangle[k] = glm::dvec3(v.x, v.y, v.z);
-                if (!finiteWithin(triangle[k], kMaxMagnitude)) {
+                if (!finiteWithin(triangle[k], kMaxMeshMagnitude)) {
                     std::array<char, 96> text{};
                     std::snprintf(text.data(), text.size(), "(%g, %g, %g)", v.x, v.y, v.z);
                     throw MeshFileError("has a vertex beyond ±1e6 or not finite: " + std::string(text.data()));

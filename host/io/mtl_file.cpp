@@ -20,9 +20,9 @@ std::string trim(const std::string& s) {
     return s.substr(a, b - a + 1);
 }
 
-class Reader {
+class MtlReader {
 public:
-    explicit Reader(std::filesystem::path path) : path_(std::move(path)), file_(path_.string()) {}
+    explicit MtlReader(std::filesystem::path path) : path_(std::move(path)), file_(path_.string()) {}
 
     MtlFile read() {
         std::ifstream in(path_);
@@ -218,6 +218,6 @@ std::shared_ptr<const TextureData> normalMapFromHeights(const TextureData& heigh
     return std::make_shared<const TextureData>(textureFromPixels(w, h, rgba, heights.name + " (as a normal map)"));
 }
 
-MtlFile readMtlFile(const std::filesystem::path& path) { return Reader(path).read(); }
+MtlFile readMtlFile(const std::filesystem::path& path) { return MtlReader(path).read(); }
 
 }  // namespace whitted

@@ -117,7 +117,7 @@ std::string uvVectors(const std::array<glm::dvec2, 3>& uv) {
 }
 
 // A triangle without area renders nothing here; POV-Ray would warn about it.
-bool degenerate(const Triangle& t) { return glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)) == 0.0; }
+bool zeroArea(const Triangle& t) { return glm::length(glm::cross(t.v1 - t.v0, t.v2 - t.v0)) == 0.0; }
 
 bool anyTransparent(const Csg& csg) {
     return std::any_of(csg.children.begin(), csg.children.end(), [](const CsgChild& c) {
@@ -144,7 +144,7 @@ struct ShapeWriter {
         s << "plane { " << vec(n) << ", " << num(glm::dot(n, p.point)) << "\n" << material << "}\n";
     }
     void operator()(const Triangle& t) const {
-        if (degenerate(t)) return;
+        if (zeroArea(t)) return;
         s << "triangle { " << vec(t.v0) << ", " << vec(t.v1) << ", " << vec(t.v2) << "\n" << material << "}\n";
     }
     void operator()(const Box& b) const {
@@ -169,13 +169,13 @@ struct ShapeWriter {
     }
     void operator()(const Mesh& m) const {
         // POV-Ray refuses an empty mesh.
-        if (std::all_of(m.triangles.begin(), m.triangles.end(), degenerate)) return;
+        if (std::all_of(m.triangles.begin(), m.triangles.end(), zeroArea)) return;
         // Smooth meshes as smooth_triangle: POV-Ray interpolates the vertex
         // normals across the triangle as we do (Phong).
         s << "mesh {\n";
         for (size_t i = 0; i < m.triangles.size(); ++i) {
             const Triangle& t = m.triangles[i];
-            if (degenerate(t)) continue;
+            if (zeroArea(t)) continue;
             // Texture coordinates ride on each triangle (uv_vectors).
             std::string uv = m.uvs.empty() ? "" : uvVectors(m.uvs[i]);
             if (m.normals.empty()) {
