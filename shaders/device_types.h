@@ -228,11 +228,11 @@ struct Material {
     uint diffuseTexture WHITTED_ZERO;  // index into the kBindingTextures array, or kNoTexture
     uint normalMap WHITTED_ZERO;       // likewise
     uint emissionTexture WHITTED_ZERO; // likewise: multiplies emission
-    uint pad6 WHITTED_ZERO;
+    uint roughnessTexture WHITTED_ZERO; // likewise: its green channel multiplies roughness (kMaterialGlossy)
     float textureScale WHITTED_ZERO;   // planes: world units per repeat
     float normalStrength WHITTED_ZERO;
     float glossExponent WHITTED_ZERO;  // kMaterialGlossy: the Phong exponent of the reflection and refraction lobes
-    float pad8 WHITTED_ZERO;
+    float roughness WHITTED_ZERO;      // kMaterialGlossy with a roughnessTexture: the roughness it multiplies
     vec3 transmissionColor WHITTED_ZERO;  // tints refracted light and the shadow filter (white: none)
     float pad9 WHITTED_ZERO;
     vec3 emission WHITTED_ZERO;           // added where a ray hits the surface

@@ -187,14 +187,24 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // the viewer as shadingNormal() keeps an interpolated one.
         float coneWidth = pending.cone.x + pending.cone.y * hit.t;
 #ifndef WHITTED_NO_TEXTURES  // the build for scenes without textures (host/render/device_policy.cpp)
-        uvec3 slots = uvec3(m.diffuseTexture, m.normalMap, m.emissionTexture);
-        if (slots.x != kNoTexture || slots.y != kNoTexture || slots.z != kNoTexture) {
+        uvec4 slots = uvec4(m.diffuseTexture, m.normalMap, m.emissionTexture, m.roughnessTexture);
+        if (any(notEqual(slots, uvec4(kNoTexture)))) {
             SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, m.textureScale);
             float cosine = abs(dot(ray.dir, n));
             if (slots.x != kNoTexture)
                 m.diffuse *= textureColor(slots.x, s.uv, rayConeLod(slots.x, s, coneWidth, cosine));
             if (slots.z != kNoTexture)
                 m.emission *= textureColor(slots.z, s.uv, rayConeLod(slots.z, s, coneWidth, cosine));
+            // A roughness texture: the roughness here is <roughness> times
+            // its green channel (glTF's metallicRoughnessTexture), and the
+            // lobe's exponent follows as the host's glossyLobeExponent
+            // (Walter et al. 2007: 2 / alpha^2 - 2, alpha = r^2); r = 0 is
+            // the mirror (exponent < 0: no lobe).
+            if (kHasGloss && slots.w != kNoTexture) {
+                float r = m.roughness * textureColor(slots.w, s.uv, rayConeLod(slots.w, s, coneWidth, cosine)).g;
+                float alpha = r * r;
+                m.glossExponent = alpha * alpha > 0.0 ? 2.0 / (alpha * alpha) - 2.0 : -1.0;
+            }
             if (slots.y != kNoTexture) {
                 ns = normalMapped(slots.y, m.normalStrength, s, ns, rayConeLod(slots.y, s, coneWidth, cosine));
                 float facing = dot(ns, -ray.dir);
@@ -266,7 +276,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // A glossy material (roughness > 0) sends each child along a direction
         // drawn from a lobe about the ideal one (shading.glsl, glossyDirection), from
         // this sample's dimension for the ray's depth (sampling.glsl).
-        bool glossy = kHasGloss && (m.flags & kMaterialGlossy) != 0u;
+        bool glossy = kHasGloss && (m.flags & kMaterialGlossy) != 0u && m.glossExponent >= 0.0;
         vec2 lobeSample = glossy ? sampleDimension(nextSample - 1u, patternSize, pixelSeed,
                                                    kDimLobeBase + min(pending.depth, 13u))
                                  : vec2(0.0);

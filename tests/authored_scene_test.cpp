@@ -321,6 +321,21 @@ TEST(AuthoredGltf, MaterialAnchorCases) {
     EXPECT_EQ(emissive.emission, glm::dvec3(1.0, 0.5, 2.0));
     EXPECT_EQ(emissive.emissionTexture.data, e.emissiveTexture);
     EXPECT_FALSE(lambert.emissionTexture);
+
+    // metallicRoughnessTexture: its green channel times roughnessFactor is
+    // the roughness (the <roughness_texture>), where the roughness is the
+    // glossy lobe's: metals and glass, not an opaque dielectric.
+    auto roughTextured = [](GltfMaterial g) {
+        g.metallicRoughnessTexture = std::make_shared<TextureData>();
+        return std::pair(materialFromGltf(g), g.metallicRoughnessTexture);
+    };
+    auto [metal, metalTexture] = roughTextured(gltfMaterial(b, 1, 0.6));
+    EXPECT_EQ(metal.roughness, 0.6);
+    EXPECT_EQ(metal.roughnessTexture.data, metalTexture);
+    auto [frostedTextured, frostedTexture] = roughTextured(gltfMaterial(glm::dvec3(1), 0, 0.5, 1, 1.5));
+    EXPECT_EQ(frostedTextured.roughnessTexture.data, frostedTexture);
+    EXPECT_FALSE(roughTextured(gltfMaterial(b, 0, 1)).first.roughnessTexture);  // dielectric: no lobe
+    EXPECT_FALSE(roughTextured(gltfMaterial(b, 1, 0)).first.roughnessTexture);  // roughnessFactor 0: a mirror
 }
 
 // Volume attenuation rendered: an orthographic view through a slab of

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <sstream>
 
@@ -249,6 +250,93 @@ TEST(GlossyReflection, ReflectedLineBlursMoreWithRoughness) {
             EXPECT_NEAR(spread, predicted, 0.2 * predicted) << "roughness " << roughness;
         }
     }
+}
+
+// <roughness_texture> (glTF's metallicRoughnessTexture): the roughness where a ray hits is <roughness> times
+// the texture's green channel. The mirror of ReflectedLineBlursMoreWithRoughness, with `mirror` as its extra
+// material elements, a texture 64 texels wide (float EXR, its green channel green(u)) repeating every 10 world
+// units from x = -5: the visible mirror, x in about [-2.4, 2.4], reads u in [0.26, 0.74].
+RenderResult mirrorLine(const std::string& mirror, const std::function<float(int)>& green = {}) {
+    std::string texture;
+    if (green) {
+        const int w = 64, h = 4;
+        std::vector<float> texels;
+        for (int y = 0; y < h; ++y)
+            for (int x = 0; x < w; ++x) texels.insert(texels.end(), {1.0f, green(x), 1.0f});
+        fs::path dir = outputDir() / "distribution";
+        fs::create_directories(dir);
+        fs::path file = dir / ("roughness_" + std::to_string(std::hash<std::string>{}(mirror)) + ".exr");
+        writeImage(file, w, h, 3, texels, PixelEncoding::Float);
+        texture = "<roughness_texture>" + fs::absolute(file).string() + "</roughness_texture>" +
+                  "<texture_scale>10</texture_scale>";
+    }
+    std::ostringstream xml;
+    xml << R"(<scene><camera><position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/><fov>)" << kFovDegrees
+        << "</fov></camera><lights/><objects>"
+        << R"(<object><position x="-5" y="0" z="0"/><diffuse_color r="1" g="1" b="1"/><properties><type>plane</type>)"
+        << R"(<normal x="0" y="0" z="1"/><diffuse_coef>0</diffuse_coef><reflection_coef>1</reflection_coef>)"
+        << mirror << texture << "</properties></object>"
+        << R"(<object><position x="-50" y="0" z="8"/><diffuse_color r="1" g="1" b="1"/><properties>)"
+        << R"(<type>cylinder</type><radius>0.02</radius><height>100</height><axis x="1" y="0" z="0"/>)"
+        << R"(<diffuse_coef>0</diffuse_coef><emission r="10" g="10" b="10"/></properties></object>)"
+        << "</objects></scene>";
+    RenderSettings settings{.width = kWidth, .height = kHeight, .samplesPerPixel = 64, .maxDepth = 1,
+                            .auxiliary = false};
+    return renderScene(loadSceneFromString(xml.str(), "roughness_texture.xml"), settings);
+}
+
+float columnDifference(const RenderResult& a, const RenderResult& b, int x) {
+    float worst = 0;
+    for (int y = 0; y < a.height; ++y)
+        worst = std::max(worst, glm::length(pixel(a, gpu::kAovColor, x, y) - pixel(b, gpu::kAovColor, x, y)));
+    return worst;
+}
+
+// A texture whose green is 0.5 everywhere (red and blue 1, unread) on roughness 0.3 renders as roughness
+// 0.15 without one: the same draws through the same lobe, its exponent computed in float on the device
+// instead of double on the host.
+TEST(GlossyReflection, RoughnessTextureScalesRoughnessByItsGreenChannel) {
+    RenderResult textured = mirrorLine("<roughness>0.3</roughness>", [](int) { return 0.5f; });
+    RenderResult plain = mirrorLine("<roughness>0.15</roughness>");
+    RenderResult rougher = mirrorLine("<roughness>0.3</roughness>");
+    writeColour(textured, "roughness_texture_uniform");
+    float worst = 0, apart = 0;
+    for (int x = 0; x < kWidth; ++x) {
+        worst = std::max(worst, columnDifference(textured, plain, x));
+        apart = std::max(apart, columnDifference(textured, rougher, x));
+    }
+    std::printf("[ glossy   ] green 0.5 x roughness 0.3 against roughness 0.15: worst pixel %.3g (against 0.3: %.3g)\n",
+                worst, apart);
+    EXPECT_LT(worst, 1e-3f);
+    EXPECT_GT(apart, 0.1f);  // the texture does change the image
+}
+
+// A texture green 0 on its left half and 1 on its right (roughness 0.3): the mirror's left is a perfect
+// mirror, its right roughness 0.3, each column equal to the untextured render of one or the other, but for
+// the few the texture's filtering blends at the edge (x = 0, the image's centre).
+TEST(GlossyReflection, RoughnessTextureVariesAcrossTheSurface) {
+    RenderResult split = mirrorLine("<roughness>0.3</roughness>", [](int x) { return x < 32 ? 0.0f : 1.0f; });
+    RenderResult mirror = mirrorLine("");
+    RenderResult rough = mirrorLine("<roughness>0.3</roughness>");
+    writeColour(split, "roughness_texture_split");
+    int lastMirror = -1, firstRough = kWidth, mirrors = 0, roughs = 0;
+    for (int x = 0; x < kWidth; ++x) {
+        if (columnDifference(split, mirror, x) == 0.0f) {
+            ++mirrors;
+            lastMirror = x;
+        } else if (columnDifference(split, rough, x) < 1e-3f) {
+            ++roughs;
+            firstRough = std::min(firstRough, x);
+        }
+    }
+    std::printf("[ glossy   ] split texture: %d mirror columns up to %d, %d rough columns from %d\n", mirrors,
+                lastMirror, roughs, firstRough);
+    EXPECT_EQ(mirrors, lastMirror + 1);        // the mirror columns are the left ones
+    EXPECT_EQ(roughs, kWidth - firstRough);    // the rough ones the right ones
+    // A texel is 10/64 world units, about 5 columns of the mirror: bilinear filtering blends the two halves
+    // over one texel, so about 5 columns are neither.
+    EXPECT_LE(firstRough - lastMirror - 1, 8);
+    EXPECT_NEAR(lastMirror + 1, kWidth / 2, 8);
 }
 
 // A white furnace: the camera inside a closed sphere whose inside is a perfect glossy reflector (kr 1,

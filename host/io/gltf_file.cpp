@@ -409,8 +409,8 @@ private:
                 g.roughnessFactor = number(*pbr, "roughnessFactor", p + "/roughnessFactor", 1, 0, 1);
                 if (const Json* t = member(*pbr, "baseColorTexture"))
                     g.baseColorTexture = texture(*t, p + "/baseColorTexture", TextureEncoding::Colour);
-                if (member(*pbr, "metallicRoughnessTexture"))
-                    warn(p + "/metallicRoughnessTexture", "is not used; the factors apply to the whole surface");
+                if (const Json* t = member(*pbr, "metallicRoughnessTexture"))
+                    g.metallicRoughnessTexture = texture(*t, p + "/metallicRoughnessTexture", TextureEncoding::Data);
             }
             if (const Json* t = member(m, "normalTexture")) {
                 g.normalTexture = texture(*t, at + "/normalTexture", TextureEncoding::Data);

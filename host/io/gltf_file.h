@@ -33,6 +33,8 @@ struct GltfMaterial {
     std::shared_ptr<const TextureData> baseColorTexture;  // sRGB decoded to linear
     double metallicFactor = 1.0;
     double roughnessFactor = 1.0;
+    // pbrMetallicRoughness.metallicRoughnessTexture: linear data, roughness in green (metalness in blue, unused)
+    std::shared_ptr<const TextureData> metallicRoughnessTexture;
     std::shared_ptr<const TextureData> normalTexture;  // linear data
     double normalScale = 1.0;
     glm::dvec3 emissiveFactor{0, 0, 0};

@@ -534,7 +534,8 @@ struct TextureSlot {
 };
 constexpr TextureSlot kTextureSlots[] = {{"diffuse_texture", TextureEncoding::Colour},
                                          {"normal_map", TextureEncoding::Data},
-                                         {"emission_texture", TextureEncoding::Colour}};
+                                         {"emission_texture", TextureEncoding::Colour},
+                                         {"roughness_texture", TextureEncoding::Data}};
 
 // Whether the scene has a texture that to_xml() could not name: one made
 // from an array (save() writes it as a file), on an object of its own (a

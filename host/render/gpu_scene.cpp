@@ -27,6 +27,7 @@ static_assert(sizeof(gpu::Material) == 192 && offsetof(gpu::Material, diffuse) =
               offsetof(gpu::Material, emissionTexture) == 120 &&
               offsetof(gpu::Material, flags) == 60 && offsetof(gpu::Material, textureScale) == 128 &&
               offsetof(gpu::Material, normalStrength) == 132 && offsetof(gpu::Material, glossExponent) == 136 &&
+              offsetof(gpu::Material, roughnessTexture) == 124 && offsetof(gpu::Material, roughness) == 140 &&
               offsetof(gpu::Material, transmissionColor) == 144 &&
               offsetof(gpu::Material, emission) == 160 && offsetof(gpu::Material, ambientColor) == 176);
 static_assert(sizeof(gpu::SurfaceAttributes) == 48 && offsetof(gpu::SurfaceAttributes, uv0) == 0 &&
@@ -113,9 +114,11 @@ gpu::Material packMaterial(const Material& m, std::vector<std::shared_ptr<const 
             .diffuseTexture = textureSlot(m.diffuseTexture, textures),
             .normalMap = textureSlot(m.normalMap, textures),
             .emissionTexture = textureSlot(m.emissionTexture, textures),
+            .roughnessTexture = m.roughness > 0 ? textureSlot(m.roughnessTexture, textures) : gpu::kNoTexture,
             .textureScale = float(m.textureScale),
             .normalStrength = float(m.normalStrength),
             .glossExponent = m.roughness > 0 ? float(glossyLobeExponent(m.roughness)) : 0.0f,
+            .roughness = float(m.roughness),
             .transmissionColor = glm::vec3(m.transmissionColor),
             .emission = glm::vec3(m.emission),
             .ambientColor = glm::vec3(m.ambientColor.value_or(glm::dvec3(0)))};

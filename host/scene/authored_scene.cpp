@@ -85,6 +85,9 @@ Material materialFromGltf(const GltfMaterial& g) {
     out.specularColor = glm::mix(glm::dvec3(1), b, m);
     out.reflection = glossy ? specular : specular * (1 - r) * (1 - r);
     out.roughness = glossy ? r : 0.0;
+    // Its green channel times roughnessFactor is the roughness (glTF 2.0,
+    // 3.9.2), where the lobe is used; its blue (metalness) is not read.
+    if (glossy && r > 0 && g.metallicRoughnessTexture) out.roughnessTexture = {"", g.metallicRoughnessTexture};
     out.specular = specular * (1 - r);
     double alpha = r * r;
     out.shininess = alpha > 0 ? std::clamp(2 / (alpha * alpha) - 2, 1.0, 1e4) : 1e4;

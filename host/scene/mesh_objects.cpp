@@ -243,7 +243,7 @@ const GltfPrimitive& gltfPart(const Diagnostics& diag, const XMLElement* e, cons
 // texture elements of scenes/README.md "Textures"), which reads the mesh's
 // texture coordinates.
 bool namesTexture(const XMLElement* properties) {
-    for (const char* texture : {"diffuse_texture", "normal_map", "emission_texture"})
+    for (const char* texture : {"diffuse_texture", "normal_map", "emission_texture", "roughness_texture"})
         if (properties->FirstChildElement(texture)) return true;
     return false;
 }

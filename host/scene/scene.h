@@ -151,12 +151,17 @@ struct Material {
     glm::dvec3 emission{0, 0, 0};           // added where a ray hits the surface; lights nothing else
     std::optional<glm::dvec3> ambientColor{};  // the ambient term's colour (MTL Ka); none: Cd
     TextureRef emissionTexture{};  // multiplies `emission` (glTF's emissiveTexture)
+    // Linear data whose green channel multiplies `roughness` where a ray hits
+    // (glTF's metallicRoughnessTexture); needs roughness > 0.
+    TextureRef roughnessTexture{};
 
     // The textures, which read a surface's texture coordinates: one list, so
     // that code over all of them (attributes, copies, watched files) misses none.
-    std::array<TextureRef*, 3> textures() { return {&diffuseTexture, &normalMap, &emissionTexture}; }
-    std::array<const TextureRef*, 3> textures() const { return {&diffuseTexture, &normalMap, &emissionTexture}; }
-    bool textured() const { return diffuseTexture || normalMap || emissionTexture; }
+    std::array<TextureRef*, 4> textures() { return {&diffuseTexture, &normalMap, &emissionTexture, &roughnessTexture}; }
+    std::array<const TextureRef*, 4> textures() const {
+        return {&diffuseTexture, &normalMap, &emissionTexture, &roughnessTexture};
+    }
+    bool textured() const { return diffuseTexture || normalMap || emissionTexture || roughnessTexture; }
     void dropTextures() {
         for (TextureRef* t : textures()) *t = {};
     }

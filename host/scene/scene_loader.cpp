@@ -47,7 +47,7 @@ const std::vector<std::string_view> kMaterialProperties = {
     "shininess",       "reflection_coef",   "checker_color", "checker_size", "absorption",
     "diffuse_texture", "texture_scale",   "normal_map",    "normal_strength", "fresnel",
     "transmission_color", "emission", "emission_texture", "ambient_color",
-    "roughness"};
+    "roughness", "roughness_texture"};
 
 // <properties>: the seed's material elements, the extensions, then the
 // shape elements (each applies to some types only; see readShape).
@@ -73,6 +73,7 @@ const std::vector<ChildRule> kPropertyRules = {{"type"},
                                                {"emission_texture"},
                                                {"ambient_color"},
                                                {"roughness"},
+                                               {"roughness_texture"},
                                                {"radius"},
                                                {"height"},
                                                {"axis"},
@@ -403,7 +404,8 @@ private:
 
     // ---- Textures ----
 
-    // <diffuse_texture>, <normal_map> and <emission_texture> on every type but triangle (which
+    // <diffuse_texture>, <normal_map>, <emission_texture> and <roughness_texture> (with
+    // <roughness>) on every type but triangle (which
     // has no texture coordinates; a mesh of one polygon with <uv> has),
     // <normal_strength> with a <normal_map>, <texture_scale> on
     // planes only (scenes/README.md "Textures"). Left unread elsewhere, they are
@@ -415,13 +417,18 @@ private:
                                               std::tuple("normal_map", TextureEncoding::Data,
                                                          &object.material.normalMap),
                                               std::tuple("emission_texture", TextureEncoding::Colour,
-                                                         &object.material.emissionTexture)}) {
+                                                         &object.material.emissionTexture),
+                                              std::tuple("roughness_texture", TextureEncoding::Data,
+                                                         &object.material.roughnessTexture)}) {
             const XMLElement* e = properties.optional(name);
             if (!e) continue;
             if (const Mesh* mesh = std::get_if<Mesh>(&object.shape); mesh && mesh->uvs.empty())
                 diag_.fail(e, tag(name) + " on a mesh needs texture coordinates: the mesh file has none, or "
                                           "the <polygon>s have no <uv>");
             *target = readTexture(e, encoding);
+            if (target == &object.material.roughnessTexture && !(object.material.roughness > 0))
+                diag_.fail(e, "<roughness_texture> multiplies <roughness>: it needs <roughness> > 0 beside it in "
+                              "<properties>");
         }
         if (const XMLElement* e = properties.optional("normal_strength")) {
             if (!object.material.normalMap)

@@ -146,6 +146,8 @@ void writeMaterialProperties(XmlOut& x, const Material& m, const FilePlaces& pla
     }
     if (m.emissionTexture && !m.emissionTexture.written.empty())
         x.value("emission_texture", textureText(m.emissionTexture, places));
+    if (m.roughness > 0 && m.roughnessTexture && !m.roughnessTexture.written.empty())
+        x.value("roughness_texture", textureText(m.roughnessTexture, places));
 }
 
 void writeLight(XmlOut& x, const Light& l) {
@@ -354,7 +356,8 @@ void writeFilelessTextures(Scene& scene, const std::filesystem::path& output) {
         ref.written = written[ref.data.get()] = std::filesystem::absolute(output.parent_path() / file).string();
     };
     auto material = [&](Material& m, const std::string& label) {
-        static constexpr const char* kSlots[] = {"diffuse_texture", "normal_map", "emission_texture"};  // textures()' order
+        static constexpr const char* kSlots[] = {"diffuse_texture", "normal_map", "emission_texture",
+                                                 "roughness_texture"};  // textures()' order
         for (size_t k = 0; k < m.textures().size(); ++k) extract(*m.textures()[k], label, kSlots[k]);
     };
     std::function<void(Csg&, const std::string&)> children = [&](Csg& csg, const std::string& label) {

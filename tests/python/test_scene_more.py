@@ -74,6 +74,32 @@ def test_array_textures_save_beside_the_scene_and_render_bit_for_bit(tmp_path):
         scene.to_xml()
 
 
+# A roughness texture from an array (its green channel times roughness, scenes/README.md "Textures"): saved
+# beside the scene, `whitted render` of the file equals the Python render bit for bit, and the texture changes the
+# image against the same roughness without it.
+def test_roughness_texture_from_an_array_saves_and_renders_bit_for_bit(tmp_path):
+    def scene_with(texture):
+        scene = lit_scene()
+        scene.add_sphere((-0.7, 0.4, 0), 0.6, name="ball")
+        scene.add_box((0.3, -0.2, -0.3), (0.6, 0.6, 0.6), name="crate")
+        scene.add_plane((0, -0.2, 0), (0, 1, 0), name="floor",
+                        material=whitted.Material(diffuse=0.2, reflection=0.8, roughness=0.4,
+                                                  roughness_texture=texture))
+        return scene
+    green = np.zeros((16, 16, 3), np.float32)
+    green[:, 8:, 1] = 1.0  # rough on the right half, a mirror on the left
+    scene = scene_with(green)
+    assert scene.objects[2].material.roughness_texture == "<array 16x16>"
+    path = tmp_path / "rough.xml"
+    scene.save(path)
+    assert ">rough.floor.roughness_texture.exr<" in path.read_text()
+    status, err = run_cli("render", path, "-o", tmp_path / "x.exr", "--aov", "none", "-q")
+    assert status == 0, err
+    image = whitted.render(scene, aovs="none").image
+    assert np.array_equal(image, read_exr(tmp_path / "x.exr"))
+    assert np.abs(whitted.render(scene_with(None), aovs="none").image - image).max() > 0.05
+
+
 def test_uint8_is_srgb_and_float_is_linear_and_files_read_as_the_loader_reads_them(tmp_path):
     codes = (gradient(8, 16) * 255).astype(np.uint8)
     # IEC 61966-2-1's decoding, the one PNG files get.
