@@ -488,7 +488,7 @@ std::string nested(int depth) {
 const std::string kPropertyList =
     "type, refraction_coef, transmission_coef, specular_coef, diffuse_coef, ambiente_coef, reflective, shininess, "
     "reflection_coef, checker_color, checker_size, absorption, diffuse_texture, texture_scale, normal_map, "
-    "normal_strength, fresnel, transmission_color, emission, emission_texture, ambient_color, roughness, radius, height, axis, normal, size, "
+    "normal_strength, fresnel, transmission_color, emission, emission_texture, ambient_color, roughness, roughness_texture, radius, height, axis, normal, size, "
     "vertex, polygons, file, scale, rotation, matrix, operation";
 
 std::vector<BadCase> xmlCases() {
