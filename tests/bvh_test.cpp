@@ -1,6 +1,7 @@
 // The BVH: structure invariants of the builder, and the same images as the
 // brute-force loop over every primitive.
 #include "accel/bvh.h"
+#include "render/renderer.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
 
@@ -8,7 +9,9 @@
 #include <bit>
 #include <cstring>
 #include <functional>
+#include <numbers>
 #include <random>
+#include <set>
 
 namespace whitted::test {
 namespace {
@@ -71,23 +74,31 @@ using LeafSets = std::vector<std::vector<uint32_t>>;
 // quantised child box containing the exact box of the primitives below it,
 // one to eight children a node (two or more but at a root that is a single
 // leaf), every node the child of exactly one other (or the root), no more
-// nodes than max(leaves - 1, 1) (countSceneArrays' bound) and the walk's
+// nodes than max(leaves - 1, 1) (countSceneArrays' bound; extraNodes more
+// for joined parts of a single leaf) and the walk's
 // stack within gpu::kBvhWideStackSize. Returns how many nodes have fewer than
 // eight children while one of them is an inner node.
-uint32_t checkWideTree(const std::vector<Aabb>& boxes, const Bvh& bvh, const std::vector<gpu::BvhNode>& wide,
-                       const std::vector<uint32_t>& order) {
-    size_t n = boxes.size();
-    EXPECT_EQ(order.size(), n);
-    LeafSets binaryLeaves, wideLeaves;
+// The leaves of a binary tree, as primitive sets (each numbered from `first`).
+LeafSets binaryLeafSets(const Bvh& bvh, uint32_t first = 0) {
+    LeafSets leaves;
     for (const BinaryBvhNode& node : bvh.nodes)
         if (node.primitiveCount > 0) {
-            std::vector<uint32_t> set(bvh.primitiveOrder.begin() + node.first,
-                                      bvh.primitiveOrder.begin() + node.first + node.primitiveCount);
+            std::vector<uint32_t> set;
+            for (uint32_t i = node.first; i < node.first + node.primitiveCount; ++i)
+                set.push_back(first + bvh.primitiveOrder[i]);
             std::sort(set.begin(), set.end());
-            binaryLeaves.push_back(std::move(set));
+            leaves.push_back(std::move(set));
         }
+    return leaves;
+}
+
+uint32_t checkWideTree(const std::vector<Aabb>& boxes, LeafSets binaryLeaves, const std::vector<gpu::BvhNode>& wide,
+                       const std::vector<uint32_t>& order, size_t extraNodes = 0) {
+    size_t n = boxes.size();
+    EXPECT_EQ(order.size(), n);
+    LeafSets wideLeaves;
     EXPECT_FALSE(wide.empty());
-    EXPECT_LE(wide.size(), std::max<size_t>(binaryLeaves.size(), 2) - 1);
+    EXPECT_LE(wide.size(), std::max<size_t>(binaryLeaves.size(), 2) - 1 + extraNodes);
 
     // The exact box of a subtree: its primitives' boxes, collected bottom up.
     std::vector<int> seen(n, 0);
@@ -135,7 +146,8 @@ uint32_t checkWideTree(const std::vector<Aabb>& boxes, const Bvh& bvh, const std
             EXPECT_TRUE(contains(decoded, exact)) << "node " << index << " child " << k;
             all.extend(exact);
         }
-        EXPECT_TRUE(children >= 2 || (index == 0 && children == 1 && inner == 0)) << "node " << index;
+        EXPECT_TRUE(children >= 2 || ((index == 0 || extraNodes > 0) && children == 1 && inner == 0))
+            << "node " << index;
         if (children < gpu::kBvhWidth && inner > 0) ++fewer;
         return all;
     };
@@ -147,6 +159,11 @@ uint32_t checkWideTree(const std::vector<Aabb>& boxes, const Bvh& bvh, const std
     std::sort(wideLeaves.begin(), wideLeaves.end());
     EXPECT_EQ(wideLeaves, binaryLeaves);
     return fewer;
+}
+
+uint32_t checkWideTree(const std::vector<Aabb>& boxes, const Bvh& bvh, const std::vector<gpu::BvhNode>& wide,
+                       const std::vector<uint32_t>& order) {
+    return checkWideTree(boxes, binaryLeafSets(bvh), wide, order);
 }
 
 std::vector<Aabb> randomBoxes(size_t n, float range, float minSize, float maxSize, glm::vec3 offset = glm::vec3(0)) {
@@ -213,9 +230,8 @@ TEST(Bvh, WideCollapseOfDegenerateInputs) {
 // child a block of eight leaves larger than the rest of the spine, so that
 // the collapse opens the block first and a wide node descends one spine
 // level while pushing seven entries. The collapse gives up children there.
-TEST(Bvh, WideCollapseKeepsTheStackBound) {
+Bvh spineTree(std::vector<Aabb>& boxes) {
     Bvh bvh;
-    std::vector<Aabb> boxes;
     auto leaf = [&](uint32_t index, const Aabb& b) {
         bvh.nodes[index] = {b.min, uint32_t(boxes.size()), b.max, 1u};
         boxes.push_back(b);
@@ -254,9 +270,94 @@ TEST(Bvh, WideCollapseKeepsTheStackBound) {
     spine(0, 0);
     bvh.primitiveOrder.resize(boxes.size());
     for (uint32_t i = 0; i < boxes.size(); ++i) bvh.primitiveOrder[i] = i;
+    bvh.stats.nodeCount = uint32_t(bvh.nodes.size());
+    bvh.stats.maxDepth = uint32_t(kSpine);
+    bvh.stats.leafCount = uint32_t(boxes.size());  // one box a leaf
+    return bvh;
+}
+
+TEST(Bvh, WideCollapseKeepsTheStackBound) {
+    std::vector<Aabb> boxes;
+    Bvh bvh = spineTree(boxes);
     std::vector<uint32_t> order = bvh.primitiveOrder;
     std::vector<gpu::BvhNode> wide = collapseToWide(bvh.nodes, order);
     EXPECT_GT(checkWideTree(boxes, bvh, wide, order), 0u);  // the bound took children away
+}
+
+// Parts joined under a top level (joinWide, the BVH parts of a renderer's
+// scene edits) make one tree with every invariant of a whole one: each
+// part's leaves kept, boxes containing, the walk's stack within
+// gpu::kBvhWideStackSize. Cases: a few overlapping parts of random boxes,
+// a part of one box, a part of equal boxes; 3,000 small parts (a deep top
+// level); the spine tree as deep as the builder allows, as a part among
+// 200 others, where walks arrive at its root with the most entries.
+TEST(Bvh, JoinedPartsKeepEveryInvariant) {
+    auto join = [](std::vector<std::vector<Aabb>> partBoxes, std::vector<WideBvh> parts, const char* what) {
+        std::vector<Aabb> all;
+        LeafSets leaves;
+        std::vector<const WideBvh*> pointers;
+        std::vector<uint32_t> first;
+        for (size_t p = 0; p < parts.size(); ++p) {
+            first.push_back(uint32_t(all.size()));
+            pointers.push_back(&parts[p]);
+            // A part's leaves: the primitive sets of its wide tree's leaf children.
+            for (const gpu::BvhNode& node : parts[p].nodes) {
+                uint32_t leafEnd = 0;
+                for (uint32_t k = 0; k < gpu::kBvhWidth; ++k) {
+                    uint32_t info = ((k < 4 ? node.childInfo0 : node.childInfo1) >> (8 * (k & 3))) & 0xffu;
+                    if (info == 0 || (info & gpu::kBvhChildInner)) continue;
+                    std::vector<uint32_t> set;
+                    for (uint32_t i = 0; i < info; ++i)
+                        set.push_back(first.back() + parts[p].order[node.primitiveBase + leafEnd + i]);
+                    leafEnd += info;
+                    std::sort(set.begin(), set.end());
+                    leaves.push_back(std::move(set));
+                }
+            }
+            all.insert(all.end(), partBoxes[p].begin(), partBoxes[p].end());
+        }
+        std::vector<uint32_t> order;
+        BvhStats stats;
+        std::vector<gpu::BvhNode> wide = joinWide(pointers, first, order, stats);
+        // A part of one leaf is a node for it (a whole tree's root would be).
+        size_t singleLeafParts = std::count_if(parts.begin(), parts.end(), [](const WideBvh& w) {
+            return w.nodes.size() == 1 && w.nodes[0].childInfo1 == 0 && (w.nodes[0].childInfo0 & 0xffffff00u) == 0;
+        });
+        checkWideTree(all, leaves, wide, order, singleLeafParts);
+        EXPECT_EQ(stats.wideNodeCount, wide.size()) << what;
+        EXPECT_EQ(stats.leafCount, leaves.size()) << what;
+        EXPECT_FALSE(testing::Test::HasFailure()) << what;
+    };
+    auto build = [](const std::vector<std::vector<Aabb>>& partBoxes) {
+        std::vector<WideBvh> parts;
+        for (const auto& boxes : partBoxes) parts.push_back(buildWideBvh(boxes, 2));
+        return parts;
+    };
+
+    std::vector<std::vector<Aabb>> few = {randomBoxes(20000, 100.0f, 0.01f, 3.0f),
+                                          randomBoxes(5000, 10.0f, 0.01f, 1.0f, glm::vec3(150.0f, 0.0f, 0.0f)),
+                                          randomBoxes(3000, 200.0f, 0.01f, 5.0f), randomBoxes(1, 1.0f, 0.5f, 1.0f),
+                                          std::vector<Aabb>(100, randomBoxes(1, 1.0f, 0.5f, 1.0f)[0])};
+    join(few, build(few), "a few parts");
+    join({few[0]}, build({few[0]}), "one part");
+
+    std::vector<std::vector<Aabb>> many;
+    for (int p = 0; p < 3000; ++p)
+        many.push_back(randomBoxes(1 + p % 17, 1.0f, 0.01f, 0.3f, glm::vec3(float(p % 40), float(p / 40), 0.0f)));
+    join(many, build(many), "3,000 parts");
+
+    std::vector<Aabb> spineBoxes;
+    Bvh spine = spineTree(spineBoxes);
+    WideBvh spinePart;
+    spinePart.order = spine.primitiveOrder;
+    spinePart.nodes = collapseToWide(spine.nodes, spinePart.order, kJoinedRootStack);
+    for (const Aabb& b : spineBoxes) spinePart.bounds.extend(b);
+    spinePart.stats = spine.stats;
+    std::vector<std::vector<Aabb>> around(many.begin(), many.begin() + 200);
+    std::vector<WideBvh> parts = build(around);
+    around.push_back(spineBoxes);
+    parts.push_back(std::move(spinePart));
+    join(around, std::move(parts), "the deepest part among 200");
 }
 
 // The quantised child boxes contain the children's boxes: random sets of
@@ -381,6 +482,94 @@ INSTANTIATE_TEST_SUITE_P(Scenes, FittedShader,
                          ::testing::Values("room", "nested_spheres", "one_mirror", "several_mirrors", "n_objects",
                                            "n_diffuse_objects", "three_diffuse_spheres", "showcase"),
                          [](const auto& info) { return info.param; });
+
+// A UV sphere of rings x segments x 2 triangles, smooth-shaded.
+Mesh tessellatedSphere(glm::dvec3 center, double radius, int rings, int segments) {
+    Mesh mesh;
+    auto at = [&](int r, int s) {
+        double theta = std::numbers::pi * r / rings, phi = 2.0 * std::numbers::pi * s / segments;
+        return glm::dvec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+    };
+    for (int r = 0; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            glm::dvec3 n[4] = {at(r, s), at(r + 1, s), at(r + 1, s + 1), at(r, s + 1)};
+            for (auto [a, b, c] : {std::array{0, 1, 2}, std::array{0, 2, 3}}) {
+                mesh.triangles.push_back({center + radius * n[a], center + radius * n[b], center + radius * n[c]});
+                mesh.normals.push_back({n[a], n[b], n[c]});
+            }
+        }
+    return mesh;
+}
+
+// A renderer's scene edits (Renderer::setScene) give meshes of
+// kBvhPartMinTriangles or more BVH parts of their own and keep them: moving
+// a sphere rebuilds the sphere's tree and the top level only, moving a mesh
+// its own part too, and every image (colour, normals, object ids) is the one
+// a fresh renderer makes of the edited scene with its one tree over everything.
+TEST(BvhParts, EditsRebuildOnlyWhatChangedAndRenderAsAFreshRenderer) {
+    Scene scene;
+    scene.camera.eye = {0, 1.5, 6};
+    scene.camera.windowCenter = {0, 1.2, 5};
+    scene.ambientLight = {0.2, 0.2, 0.2};
+    scene.lights.push_back({.position = {3, 6, 4}});
+    Material matte;
+    matte.ambient = 0.2;
+    scene.objects.push_back({.shape = Plane{{0, -1, 0}, {0, 1, 0}}, .material = matte});
+    scene.objects.push_back({.shape = tessellatedSphere({-1.2, 0, 0}, 1.0, 48, 64), .material = matte});  // 6,144
+    scene.objects.push_back({.shape = tessellatedSphere({1.2, 0, -1}, 0.9, 40, 56), .material = matte});   // 4,480
+    scene.objects.push_back({.shape = Sphere{{0, 1.8, 0.5}, 0.4}, .material = matte});
+    RenderSettings settings{.width = 96, .height = 72, .samplesPerPixel = 1, .maxDepth = 2, .auxiliary = true};
+    settings.ids = true;
+    Renderer renderer(testContext(), scene, settings);
+    renderer.render();
+
+    auto expectFreshImage = [&](const RenderResult& got, const char* edit) {
+        RenderResult fresh = renderScene(scene, settings);
+        ASSERT_EQ(got.layers.size(), fresh.layers.size());
+        for (size_t layer = 0; layer < fresh.layers.size(); ++layer)
+            // Bit for bit (the id layer holds integers' bits, NaNs among them).
+            EXPECT_TRUE(got.layers[layer].size() == fresh.layers[layer].size() &&
+                        std::memcmp(got.layers[layer].data(), fresh.layers[layer].data(),
+                                    fresh.layers[layer].size() * sizeof(float)) == 0)
+                << edit << ": layer " << layer << " differs";
+        EXPECT_EQ(got.rays.primary, fresh.rays.primary) << edit;
+        // Every object in view: the floor, both meshes and the ball have pixels.
+        std::set<uint32_t> seen;
+        const std::vector<float>& idLayer = got.layers[got.layout.idLayer()];
+        for (size_t i = 0; i < idLayer.size(); i += 4) seen.insert(std::bit_cast<uint32_t>(idLayer[i]));
+        for (uint32_t object : {0u, 1u, 2u, 3u}) EXPECT_TRUE(seen.count(object)) << edit << ": object " << object;
+    };
+    struct Expected {
+        const char* edit;
+        uint32_t reused;
+        uint64_t built;
+    };
+    auto& ball = std::get<Sphere>(scene.objects[3].shape);
+    for (Expected e : {Expected{"the ball moved (the parts built)", 0, 6144 + 4480 + 1},
+                       Expected{"the ball moved again", 2, 1}}) {
+        ball.center.x += 0.3;
+        renderer.setScene(scene);
+        RenderResult got = renderer.render();
+        EXPECT_EQ(got.bvh.parts, 2u) << e.edit;
+        EXPECT_EQ(got.bvh.partsReused, e.reused) << e.edit;
+        EXPECT_EQ(got.bvh.primitivesBuilt, e.built) << e.edit;
+        expectFreshImage(got, e.edit);
+    }
+    for (Triangle& t : std::get<Mesh>(scene.objects[2].shape).triangles)
+        for (glm::dvec3* v : {&t.v0, &t.v1, &t.v2}) v->y += 0.25;
+    renderer.setScene(scene);
+    RenderResult got = renderer.render();
+    EXPECT_EQ(got.bvh.partsReused, 1u);
+    EXPECT_EQ(got.bvh.primitivesBuilt, 4480u + 1u);
+    expectFreshImage(got, "a mesh moved");
+    // Its material changed, not its shape: every part reused.
+    scene.objects[1].material.diffuseColor = {0.9, 0.2, 0.1};
+    renderer.setScene(scene);
+    got = renderer.render();
+    EXPECT_EQ(got.bvh.partsReused, 2u);
+    expectFreshImage(got, "a material changed");
+    EXPECT_EQ(testContext().validationMessageCount(), 0u);
+}
 
 }  // namespace
 }  // namespace whitted::test

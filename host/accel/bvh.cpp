@@ -5,8 +5,11 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <future>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <thread>
 
 namespace whitted {
@@ -37,6 +40,8 @@ struct PrimitiveRef {
 struct Builder {
     std::vector<PrimitiveRef> refs;
     std::atomic<int> freeThreads{0};
+    uint32_t maxLeafSize = kMaxLeafSize;
+    uint32_t maxDepth = kMaxDepth;
 
     std::unique_ptr<BuildNode> build(uint32_t first, uint32_t count, uint32_t depth) {
         auto node = std::make_unique<BuildNode>();
@@ -47,7 +52,7 @@ struct Builder {
         }
         node->first = first;
         node->count = count;
-        if (count <= 1 || depth >= kMaxDepth) return node;
+        if (count <= 1 || depth >= maxDepth) return node;
 
         // Binned SAH over the three axes.
         float bestCost = std::numeric_limits<float>::infinity();
@@ -102,11 +107,11 @@ struct Builder {
         float parentArea = node->bounds.surfaceArea();
         float leafCost = float(count);
         float splitCost = kTraversalCost + (parentArea > 0 ? bestCost / parentArea : float(count));
-        if (count <= kMaxLeafSize && (bestAxis < 0 || leafCost <= splitCost)) return node;
+        if (count <= maxLeafSize && (bestAxis < 0 || leafCost <= splitCost)) return node;
 
         // Partition by bin; a range SAH cannot split, or whose larger side
-        // could not end in leaves of at most kMaxLeafSize within the depth
-        // bound (count <= kMaxLeafSize << (kMaxDepth - depth) holds for every
+        // could not end in leaves of at most maxLeafSize within the depth
+        // bound (count <= maxLeafSize << (maxDepth - depth) holds for every
         // node), is split at its middle.
         uint32_t leftCount = 0;
         if (bestAxis >= 0) {
@@ -117,10 +122,10 @@ struct Builder {
             });
             leftCount = uint32_t(mid - (refs.begin() + first));
         }
-        uint32_t remaining = kMaxDepth - depth - 1;  // levels below the children
-        uint64_t childLimit = remaining >= 32 ? UINT64_MAX : uint64_t(kMaxLeafSize) << remaining;
+        uint32_t remaining = maxDepth - depth - 1;  // levels below the children
+        uint64_t childLimit = remaining >= 32 ? UINT64_MAX : uint64_t(maxLeafSize) << remaining;
         bool unsplit = leftCount == 0 || leftCount == count;
-        if (unsplit && count <= kMaxLeafSize) return node;
+        if (unsplit && count <= maxLeafSize) return node;
         if (unsplit || std::max(leftCount, count - leftCount) > childLimit) leftCount = count / 2;
 
         // Large subtrees are built in parallel while threads are free.
@@ -202,11 +207,35 @@ struct Collapser {
     std::vector<uint32_t> height;  // of each binary node's subtree (a leaf: 0)
     std::vector<gpu::BvhNode> out;
     std::vector<uint32_t> newOrder;
+    // joinWide's top level: each binary leaf holds one part (order[first]),
+    // which goes in as an inner child, its own nodes after; empty otherwise.
+    std::span<const WideBvh* const> parts{};
+    std::span<const uint32_t> partFirst{};
 
+    bool isPart(const BinaryBvhNode& n) const { return !parts.empty() && !isInner(n); }
+    // Walks inside a part may stack up to kBvhWideStackSize - kJoinedRootStack
+    // entries more than it arrives with: its height, for the bound below.
     uint32_t computeHeight(uint32_t b) {
         const BinaryBvhNode& n = binary[b];
+        if (isPart(n)) return height[b] = gpu::kBvhWideStackSize - kJoinedRootStack;
         if (!isInner(n)) return height[b] = 0;
         return height[b] = 1 + std::max(computeHeight(n.first), computeHeight(n.first + 1));
+    }
+
+    // Part `p`'s root into slot `slot`, its other nodes appended, its
+    // primitives (numbered from partFirst[p]) appended to newOrder.
+    void placePart(uint32_t p, uint32_t slot) {
+        const WideBvh& part = *parts[p];
+        uint32_t nodeShift = uint32_t(out.size()) - 1;  // node j > 0 goes to j + nodeShift
+        uint32_t primitiveShift = uint32_t(newOrder.size());
+        auto relocate = [&](gpu::BvhNode node) {
+            node.childBase += nodeShift;
+            node.primitiveBase += primitiveShift;
+            return node;
+        };
+        out[slot] = relocate(part.nodes[0]);
+        for (size_t j = 1; j < part.nodes.size(); ++j) out.push_back(relocate(part.nodes[j]));
+        for (uint32_t local : part.order) newOrder.push_back(partFirst[p] + local);
     }
 
     // Fills wide node `slot` from binary node b (inner, or a leaf for a
@@ -262,7 +291,7 @@ struct Collapser {
         uint32_t innerChildren[gpu::kBvhWidth];
         for (uint32_t k = 0; k < count; ++k) {
             const BinaryBvhNode& child = binary[children[k]];
-            if (isInner(child)) {
+            if (isInner(child) || isPart(child)) {
                 setByte(node.childInfo0, node.childInfo1, k, gpu::kBvhChildInner | inner);
                 innerChildren[inner++] = children[k];
             } else {
@@ -274,7 +303,11 @@ struct Collapser {
         out.resize(out.size() + inner);
         out[slot] = node;
         uint32_t childStacked = stacked - 1 + count;
-        for (uint32_t k = 0; k < inner; ++k) fill(innerChildren[k], node.childBase + k, childStacked);
+        for (uint32_t k = 0; k < inner; ++k) {
+            const BinaryBvhNode& child = binary[innerChildren[k]];
+            if (isPart(child)) placePart(order[child.first], node.childBase + k);
+            else fill(innerChildren[k], node.childBase + k, childStacked);
+        }
     }
 };
 
@@ -324,19 +357,85 @@ Aabb decodeChildBox(const gpu::BvhNode& node, uint32_t k) {
     return b;
 }
 
-std::vector<gpu::BvhNode> collapseToWide(std::span<const BinaryBvhNode> binary, std::vector<uint32_t>& order) {
+std::vector<gpu::BvhNode> collapseToWide(std::span<const BinaryBvhNode> binary, std::vector<uint32_t>& order,
+                                         uint32_t rootStacked) {
     if (binary.empty()) return {};
     Collapser c{binary, order, std::vector<uint32_t>(binary.size(), 0u), {}, {}};
     c.computeHeight(0);
     c.out.reserve(binary.size() / 2 + 1);
     c.newOrder.reserve(order.size());
     c.out.resize(1);
-    c.fill(0, 0, 1);
+    c.fill(0, 0, rootStacked);
     order = std::move(c.newOrder);
     return std::move(c.out);
 }
 
-Bvh buildBvh(std::span<const Aabb> bounds, unsigned threads) {
+WideBvh buildWideBvh(std::span<const Aabb> bounds, unsigned threads) {
+    WideBvh part;
+    for (const Aabb& b : bounds) part.bounds.extend(b);
+    Bvh bvh = buildBvh(bounds, threads);
+    part.stats = bvh.stats;
+    part.order = std::move(bvh.primitiveOrder);
+    part.nodes = collapseToWide(bvh.nodes, part.order, kJoinedRootStack);
+    part.stats.wideNodeCount = uint32_t(part.nodes.size());
+    return part;
+}
+
+std::vector<gpu::BvhNode> joinWide(std::span<const WideBvh* const> parts, std::span<const uint32_t> partFirst,
+                                   std::vector<uint32_t>& order, BvhStats& stats) {
+    order.clear();
+    if (parts.size() != partFirst.size()) throw std::logic_error("joinWide: one first primitive a part");
+    if (parts.size() > kMaxJoinedParts)
+        throw std::logic_error("joinWide: " + std::to_string(parts.size()) + " parts, more than " +
+                               std::to_string(kMaxJoinedParts));
+    std::vector<Aabb> partBounds;
+    size_t primitives = 0;
+    for (const WideBvh* part : parts) {
+        if (part->nodes.empty()) throw std::logic_error("joinWide: an empty part");
+        partBounds.push_back(part->bounds);
+        primitives += part->order.size();
+    }
+    if (parts.empty()) return {};
+    // One part a leaf, a part at most kJoinedRootStack - 1 levels down:
+    // walks arrive at its root with at most kJoinedRootStack entries.
+    Bvh top = buildBvh(partBounds, 1, {.maxLeafSize = 1, .maxDepth = kJoinedRootStack - 1});
+    // The joined tree's statistics as buildBvh's would count them: each
+    // part's nodes at the depth of its leaf in the top level; the expected
+    // cost sums every part's (scaled by its box's area) and the top level's
+    // inner nodes.
+    stats = {};
+    double rootArea = std::max(double(boxOf(top.nodes[0]).surfaceArea()), 1e-30);
+    std::function<void(uint32_t, uint32_t)> count = [&](uint32_t b, uint32_t depth) {
+        const BinaryBvhNode& n = top.nodes[b];
+        if (isInner(n)) {
+            stats.nodeCount += 1;
+            stats.sahCost += double(boxOf(n).surfaceArea()) / rootArea * kTraversalCost;
+            count(n.first, depth + 1);
+            count(n.first + 1, depth + 1);
+            return;
+        }
+        const BvhStats& part = parts[top.primitiveOrder[n.first]]->stats;
+        stats.nodeCount += part.nodeCount;
+        stats.leafCount += part.leafCount;
+        stats.maxDepth = std::max(stats.maxDepth, depth + part.maxDepth);
+        stats.sahCost += part.sahCost * double(boxOf(n).surfaceArea()) / rootArea;
+    };
+    count(0, 0);
+    Collapser c{top.nodes, top.primitiveOrder, std::vector<uint32_t>(top.nodes.size(), 0u), {}, {}, parts, partFirst};
+    c.newOrder.reserve(primitives);
+    c.computeHeight(0);
+    c.out.resize(1);
+    if (top.nodes.size() == 1) {  // a single part is the tree
+        c.placePart(top.primitiveOrder[0], 0);
+    } else {
+        c.fill(0, 0, 1);
+    }
+    order = std::move(c.newOrder);
+    stats.wideNodeCount = uint32_t(c.out.size());
+    return std::move(c.out);
+}
+
+Bvh buildBvh(std::span<const Aabb> bounds, unsigned threads, BvhBuildLimits limits) {
     auto start = std::chrono::steady_clock::now();
     Bvh bvh;
     if (bounds.empty()) return bvh;
@@ -345,6 +444,8 @@ Bvh buildBvh(std::span<const Aabb> bounds, unsigned threads) {
     for (uint32_t i = 0; i < bounds.size(); ++i) builder.refs[i] = {bounds[i], bounds[i].center(), i};
     if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
     builder.freeThreads = int(threads) - 1;
+    builder.maxLeafSize = limits.maxLeafSize;
+    builder.maxDepth = limits.maxDepth;
     std::unique_ptr<BuildNode> root = builder.build(0, uint32_t(bounds.size()), 0);
 
     bvh.nodes.reserve(2 * bounds.size());

@@ -3,8 +3,11 @@
 #include "shapes/shapes.h"
 
 #include <algorithm>
+#include <bit>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 #include <stdexcept>
 
 namespace whitted {
@@ -148,6 +151,20 @@ bool needsAttributes(const Object& object) {
 }
 
 
+// Triangle i's texture coordinates and, where all three are usable (model
+// files write zero vectors where theirs were not), its vertex tangents.
+gpu::SurfaceAttributes surfaceAttributes(const Mesh& mesh, size_t i) {
+    const auto& uv = mesh.uvs[i];
+    gpu::SurfaceAttributes at{.uv0 = glm::vec2(uv[0]), .uv1 = glm::vec2(uv[1]), .uv2 = glm::vec2(uv[2])};
+    if (mesh.tangents.empty()) return at;
+    const auto& t = mesh.tangents[i];
+    if (glm::length(t[0]) > 0.5 && glm::length(t[1]) > 0.5 && glm::length(t[2]) > 0.5) {
+        at.tangents = glm::uvec3(encodeOctahedral(t[0]), encodeOctahedral(t[1]), encodeOctahedral(t[2]));
+        at.hasTangents = 1u;
+    }
+    return at;
+}
+
 // items[k] = old items[source[k]] for every k, following the permutation's
 // cycles (source is left as the identity).
 template <typename T>
@@ -165,6 +182,111 @@ void permuteInPlace(std::vector<T>& items, std::vector<uint32_t>& source) {
         items[k] = carried;
         source[k] = k;
     }
+}
+
+// Two 64-bit lanes of multiply-rotate hashing over a byte string (not
+// cryptographic: it tells a mesh moved or edited from itself unchanged).
+struct GeometryHash {
+    uint64_t a = 0x243F6A8885A308D3ull, b = 0x13198A2E03707344ull;
+    void mix(uint64_t w) {
+        a = std::rotl(a ^ w, 29) * 0x9E3779B97F4A7C15ull;
+        b = std::rotl(b + w, 23) * 0xC2B2AE3D27D4EB4Full;
+    }
+    // Four independent lanes over 32-byte blocks (one multiply chain a lane
+    // would wait on each multiply), folded into the two at the end.
+    void add(const void* data, size_t bytes) {
+        const auto* p = static_cast<const unsigned char*>(data);
+        uint64_t c = ~a, d = ~b;
+        size_t blocks = bytes / 32;
+        for (size_t i = 0; i < blocks; ++i) {
+            uint64_t w[4];
+            std::memcpy(w, p + 32 * i, 32);
+            a = std::rotl(a ^ w[0], 29) * 0x9E3779B97F4A7C15ull;
+            b = std::rotl(b + w[1], 23) * 0xC2B2AE3D27D4EB4Full;
+            c = std::rotl(c ^ w[2], 31) * 0x165667B19E3779F9ull;
+            d = std::rotl(d + w[3], 27) * 0xD6E8FEB86659FD93ull;
+        }
+        mix(c);
+        mix(d);
+        for (size_t i = 32 * blocks; i < bytes; ++i) mix(p[i]);
+        mix(bytes);
+    }
+    template <typename T>
+    void add(const std::vector<T>& v) {
+        add(v.data(), v.size() * sizeof(T));
+    }
+};
+
+// Pads a primitive's bounds by a few float ulps: the shader intersects
+// float-rounded shapes.
+Aabb padded(Aabb b) {
+    glm::vec3 pad = 1e-6f * (glm::abs(b.min) + glm::abs(b.max)) + 1e-30f;
+    b.min -= pad;
+    b.max += pad;
+    return b;
+}
+
+// A mesh object's part (its own tree, packed triangles and attributes),
+// found by its geometry's hash or built now; null when the object is not
+// one (too small, no room left in the cache, or bounds that are not
+// finite). `kept` counts the triangles of the parts this pack uses,
+// `built` those of the parts it built.
+BvhPartCache::Entry* partFor(const Object& object, uint32_t material, BvhPartCache& cache, size_t& kept,
+                             uint64_t& built, double& seconds) {
+    const Mesh* mesh = std::get_if<Mesh>(&object.shape);
+    if (!mesh || mesh->triangles.size() < kBvhPartMinTriangles) return nullptr;
+    auto start = std::chrono::steady_clock::now();
+    struct Timer {
+        std::chrono::steady_clock::time_point start;
+        double& seconds;
+        ~Timer() { seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
+    } timer{start, seconds};
+    bool attributes = needsAttributes(object);
+    GeometryHash h;
+    h.add(mesh->triangles);
+    h.add(mesh->normals);
+    if (attributes) {
+        h.add(mesh->uvs);
+        h.add(mesh->tangents);
+    }
+    for (const auto& e : cache.entries)
+        if (!e->used && e->hash[0] == h.a && e->hash[1] == h.b && e->triangles == mesh->triangles.size() &&
+            e->attributes == attributes) {
+            e->used = true;
+            kept += e->triangles;
+            return e.get();
+        }
+    if (kept + mesh->triangles.size() > kBvhPartMaxTriangles) return nullptr;
+    std::vector<gpu::Primitive> primitives;
+    std::vector<Aabb> bounds;
+    primitives.reserve(mesh->triangles.size());
+    bounds.reserve(mesh->triangles.size());
+    appendPrimitives(object.shape, material, primitives, bounds);
+    for (Aabb& b : bounds) {
+        if (!b.finite()) return nullptr;
+        b = padded(b);
+    }
+    auto entry = std::make_unique<BvhPartCache::Entry>();
+    entry->hash[0] = h.a;
+    entry->hash[1] = h.b;
+    entry->triangles = mesh->triangles.size();
+    entry->attributes = attributes;
+    entry->tree = buildWideBvh(bounds);
+    // Stored in leaf order, so that the part's order is the identity.
+    entry->primitives.reserve(primitives.size());
+    for (uint32_t k : entry->tree.order) entry->primitives.push_back(primitives[k]);
+    if (attributes) {
+        entry->surface.reserve(primitives.size());
+        for (uint32_t k : entry->tree.order) entry->surface.push_back(surfaceAttributes(*mesh, k));
+    }
+    entry->meshOrder = entry->tree.order;
+    for (uint32_t i = 0; i < entry->tree.order.size(); ++i) entry->tree.order[i] = i;
+    entry->builtBy = cache.packs;
+    entry->used = true;
+    kept += entry->triangles;
+    built += entry->triangles;
+    cache.entries.push_back(std::move(entry));
+    return cache.entries.back().get();
 }
 
 }  // namespace
@@ -203,7 +325,7 @@ void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p
     p.up = glm::vec3(up * halfHeight);
 }
 
-GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
+GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCache* parts) {
     GpuScene g;
     g.width = settings.width > 0 ? settings.width : scene.camera.width;
     g.height = settings.height > 0 ? settings.height : scene.camera.height;
@@ -225,6 +347,18 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     if (attributes) g.attributes.reserve(count);
     g.primitiveInObject.reserve(count);
     std::vector<uint32_t> leafInObject;  // csg.leaves' share of primitiveInObject
+    // Meshes with trees of their own (BvhPartCache): their primitives'
+    // range; `bounds` holds only the other primitives'.
+    struct PartRange {
+        uint32_t first, count;
+        const BvhPartCache::Entry* part;
+    };
+    std::vector<PartRange> partRanges;
+    size_t partTriangles = 0;
+    uint64_t partsBuilt = 0;
+    double partSeconds = 0;  // finding and building the parts
+    if (parts)
+        for (auto& e : parts->entries) e->used = false;
     for (const Object& object : scene.objects) {
         uint32_t material = uint32_t(g.materials.size());
         g.materials.push_back(packMaterial(object.material, g.textures));
@@ -240,6 +374,22 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
                 csg.leaves[k].extra1 = objectIndex;
                 leafInObject.push_back(uint32_t(k - firstLeaf));
             }
+        } else if (const BvhPartCache::Entry* part = parts && settings.useBvh
+                                                         ? partFor(object, material, *parts, partTriangles, partsBuilt, partSeconds)
+                                                         : nullptr) {
+            primitives.insert(primitives.end(), part->primitives.begin(), part->primitives.end());
+            for (size_t k = first; k < primitives.size(); ++k) {
+                primitives[k].material = material;
+                primitives[k].extra1 = objectIndex;
+            }
+            partRanges.push_back({uint32_t(first), uint32_t(part->primitives.size()), part});
+            // Each triangle's index in the mesh: the part's leaf order.
+            const std::vector<uint32_t>& inMesh = part->meshOrder;
+            g.primitiveInObject.insert(g.primitiveInObject.end(), inMesh.begin(), inMesh.end());
+            if (!attributes) continue;
+            if (part->attributes) g.attributes.insert(g.attributes.end(), part->surface.begin(), part->surface.end());
+            else g.attributes.resize(g.attributes.size() + part->primitives.size(), gpu::SurfaceAttributes{});
+            continue;
         } else {
             appendPrimitives(object.shape, material, primitives, bounds);
             for (size_t k = first; k < primitives.size(); ++k) primitives[k].extra1 = objectIndex;
@@ -249,16 +399,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
         if (needsAttributes(object)) {
             const Mesh& mesh = std::get<Mesh>(object.shape);
             for (size_t i = 0; i < mesh.uvs.size(); ++i) {
-                const auto& uv = mesh.uvs[i];
-                gpu::SurfaceAttributes at{.uv0 = glm::vec2(uv[0]), .uv1 = glm::vec2(uv[1]), .uv2 = glm::vec2(uv[2])};
-                if (!mesh.tangents.empty() && glm::length(mesh.tangents[i][0]) > 0.5 &&
-                    glm::length(mesh.tangents[i][1]) > 0.5 && glm::length(mesh.tangents[i][2]) > 0.5) {
-                    at.tangents = glm::uvec3(encodeOctahedral(mesh.tangents[i][0]),
-                                             encodeOctahedral(mesh.tangents[i][1]),
-                                             encodeOctahedral(mesh.tangents[i][2]));
-                    at.hasTangents = 1u;
-                }
-                g.attributes.push_back(at);
+                g.attributes.push_back(surfaceAttributes(mesh, i));
             }
         } else {
             g.attributes.resize(g.attributes.size() + (primitives.size() - first), gpu::SurfaceAttributes{});
@@ -270,33 +411,75 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     // unbounded ones (planes) after them. Bounds are padded by a few float
     // ulps: the shader intersects float-rounded shapes.
     std::vector<uint32_t> bounded, unbounded;
-    for (uint32_t i = 0; i < primitives.size(); ++i)
-        (settings.useBvh && bounds[i].finite() ? bounded : unbounded).push_back(i);
-    if (bounded.size() > gpu::kBvhMaxPrimitives)
-        throw std::runtime_error("the scene has " + std::to_string(bounded.size()) +
+    std::vector<Aabb> boundedBounds;
+    {
+        size_t part = 0, j = 0;  // the next part range, the next entry of bounds
+        for (uint32_t i = 0; i < primitives.size(); ++i) {
+            if (part < partRanges.size() && i == partRanges[part].first) {
+                i += partRanges[part++].count - 1;
+                continue;
+            }
+            const Aabb& b = bounds[j++];
+            if (settings.useBvh && b.finite()) {
+                bounded.push_back(i);
+                boundedBounds.push_back(padded(b));
+            } else {
+                unbounded.push_back(i);
+            }
+        }
+    }
+    size_t boundedCount = bounded.size() + partTriangles;
+    if (boundedCount > gpu::kBvhMaxPrimitives)
+        throw std::runtime_error("the scene has " + std::to_string(boundedCount) +
                                  " bounded primitives, more than the shader's BVH addresses (" +
                                  std::to_string(gpu::kBvhMaxPrimitives) + ")");
-    std::vector<Aabb> boundedBounds;
-    boundedBounds.reserve(bounded.size());
-    for (uint32_t i : bounded) {
-        Aabb b = bounds[i];
-        glm::vec3 pad = 1e-6f * (glm::abs(b.min) + glm::abs(b.max)) + 1e-30f;
-        b.min -= pad;
-        b.max += pad;
-        boundedBounds.push_back(b);
-    }
     std::vector<Aabb>().swap(bounds);
-    Bvh bvh = buildBvh(boundedBounds);
-    std::vector<Aabb>().swap(boundedBounds);
-    g.bvhNodes = collapseToWide(bvh.nodes, bvh.primitiveOrder);
+    auto start = std::chrono::steady_clock::now();
+    // `source`: the primitives in their final order (the BVH's leaves', then
+    // the unbounded ones), each as its index in `primitives`.
+    std::vector<uint32_t> source;
+    if (partRanges.empty()) {
+        Bvh bvh = buildBvh(boundedBounds);
+        std::vector<Aabb>().swap(boundedBounds);
+        g.bvhNodes = collapseToWide(bvh.nodes, bvh.primitiveOrder);
+        g.bvhStats = bvh.stats;
+        g.bvhStats.wideNodeCount = uint32_t(g.bvhNodes.size());
+        g.bvhStats.primitivesBuilt = bounded.size();
+        source = std::move(bvh.primitiveOrder);
+        for (uint32_t& k : source) k = bounded[k];
+    } else {
+        // The tree of every other bounded primitive, and the parts, joined.
+        WideBvh rest;
+        std::vector<const WideBvh*> trees;
+        std::vector<uint32_t> treeFirst;
+        if (!boundedBounds.empty()) {
+            rest = buildWideBvh(boundedBounds);
+            for (uint32_t& k : rest.order) k = bounded[k];
+            trees.push_back(&rest);
+            treeFirst.push_back(0);
+        }
+        std::vector<Aabb>().swap(boundedBounds);
+        for (const PartRange& r : partRanges) {
+            trees.push_back(&r.part->tree);
+            treeFirst.push_back(r.first);
+        }
+        g.bvhNodes = joinWide(trees, treeFirst, source, g.bvhStats);
+        g.bvhStats.parts = uint32_t(partRanges.size());
+        g.bvhStats.partsReused = uint32_t(std::count_if(partRanges.begin(), partRanges.end(), [&](const PartRange& r) {
+            return r.part->builtBy != parts->packs;
+        }));
+        g.bvhStats.primitivesBuilt = bounded.size() + partsBuilt;
+    }
+    if (parts) {
+        std::erase_if(parts->entries, [](const auto& e) { return !e->used; });
+        ++parts->packs;
+    }
     if (g.bvhNodes.size() > gpu::kBvhMaxNodes)
         throw std::runtime_error("the scene's BVH has " + std::to_string(g.bvhNodes.size()) +
                                  " nodes, more than the shader addresses (" + std::to_string(gpu::kBvhMaxNodes) + ")");
-    g.bvhStats = bvh.stats;
-    g.bvhStats.wideNodeCount = uint32_t(g.bvhNodes.size());
+    g.bvhStats.buildSeconds =
+        partSeconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // The primitives in place in their final order, without a second copy.
-    std::vector<uint32_t>& source = bvh.primitiveOrder;
-    for (uint32_t& k : source) k = bounded[k];
     source.insert(source.end(), unbounded.begin(), unbounded.end());
     g.primitives = std::move(primitives);
     if (!g.attributes.empty()) {  // the same order as the primitives
@@ -332,7 +515,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings) {
     if (settings.auxiliary) g.params.options |= uint32_t(settings.aovBounces) << gpu::kOptionAovBouncesShift;
     g.params.seed = uint32_t(settings.seed);
     g.params.bvhNodeCount = uint32_t(g.bvhNodes.size());
-    g.params.firstListPrimitive = uint32_t(bounded.size());
+    g.params.firstListPrimitive = uint32_t(boundedCount);
     g.params.listPrimitiveCount = uint32_t(unbounded.size());
     return g;
 }

@@ -37,7 +37,38 @@ struct GpuScene {
     int height = 0;
 };
 
-GpuScene packScene(const Scene& scene, const RenderSettings& settings);
+// The BVH parts of one renderer's packs, kept between them (accel/bvh.h
+// joinWide; Renderer::setScene): a mesh of at least kBvhPartMinTriangles
+// triangles gets a tree of its own, kept here with its packed triangles and
+// surface attributes under a 128-bit hash of its geometry. A later pack that
+// finds the same geometry (the object unmoved and unedited; its material
+// may differ) takes them as they are, and builds only the trees of what
+// changed: moved or edited meshes, the tree of every other bounded
+// primitive, and the top level over the parts. Entries the last pack did
+// not use are dropped; at most kBvhPartMaxTriangles triangles are kept (a
+// larger mesh beyond them is packed into the one tree of the others).
+struct BvhPartCache {
+    struct Entry {
+        uint64_t hash[2] = {0, 0};
+        size_t triangles = 0;
+        bool attributes = false;  // the surface attributes were packed (needsAttributes)
+        std::vector<gpu::Primitive> primitives;  // in the tree's leaf order (tree.order is the identity)
+        std::vector<uint32_t> meshOrder;         // each one's triangle index in the mesh
+        std::vector<gpu::SurfaceAttributes> surface;
+        WideBvh tree;
+        uint64_t builtBy = 0;  // the pack that built it
+        bool used = false;     // by the pack under way
+    };
+    std::vector<std::unique_ptr<Entry>> entries;
+    uint64_t packs = 0;  // packs made with this cache
+};
+inline constexpr size_t kBvhPartMinTriangles = 4096;
+inline constexpr size_t kBvhPartMaxTriangles = size_t(8) << 20;
+
+// parts: null packs one tree over every bounded primitive; else meshes of
+// kBvhPartMinTriangles or more get trees of their own, joined, taken from or
+// added to `parts` (GpuScene::bvhStats says how many were reused).
+GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCache* parts = nullptr);
 
 // The camera's fields of FrameParams (eye, projection, forward, right, up)
 // for a width x height image: what shaders/camera.glsl's generateCameraRay reads.

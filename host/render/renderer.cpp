@@ -64,11 +64,12 @@ constexpr vk::BufferUsageFlags kStorage = vk::BufferUsageFlagBits::eStorageBuffe
 // Packs the scene after checking that each of its arrays fits one device
 // buffer: a scene too large is refused before its BVH is built. Running out
 // of host memory while packing or building the BVH says so with the sizes.
-GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const RenderSettings& settings) {
+GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const RenderSettings& settings,
+                           BvhPartCache* parts = nullptr) {
     SceneArrayCounts counts = countSceneArrays(scene);
     if (auto problem = sceneArraysTooLarge(counts, sceneBufferLimits(ctx))) throw std::runtime_error(*problem);
     try {
-        return packScene(scene, settings);
+        return packScene(scene, settings, parts);
     } catch (const std::bad_alloc&) {
         uint64_t bytes = counts.primitives * sizeof(gpu::Primitive) + counts.bvhNodes * sizeof(gpu::BvhNode);
         throw std::runtime_error("out of host memory packing the scene's " + std::to_string(counts.primitives) +
@@ -191,11 +192,19 @@ void Renderer::buildPipeline(std::optional<Specialization> constants) {
 // queries, the top-level acceleration structure.
 void Renderer::uploadScene() {
     auto start = Clock::now();
-    auto upload = [&](const auto& array, const char* what) {
+    // An array the size of the one before it, in host-visible memory (a
+    // device that works in host memory, when an object moved), is written
+    // in place: a new buffer's pages cost more to touch than to copy into.
+    auto upload = [&](Buffer& target, const auto& array, const char* what) {
         vk::DeviceSize bytes = array.size() * sizeof(array[0]);
+        if (target.mapped && bytes > 0 && target.size == bytes) {
+            std::memcpy(target.mapped, array.data(), bytes);
+            return;
+        }
+        target = {};  // the old array goes before the new one is made
         try {
-            return createDeviceBuffer(ctx_, array.data(), bytes,
-                                      vk::BufferUsageFlagBits::eShaderDeviceAddress | kStorage);
+            target = createDeviceBuffer(ctx_, array.data(), bytes,
+                                        vk::BufferUsageFlagBits::eShaderDeviceAddress | kStorage);
         } catch (const std::runtime_error& e) {
             throw std::runtime_error("uploading the scene's " + std::to_string(array.size()) + " " + what + " (" +
                                      std::to_string(bytes) + " bytes; " + std::to_string(deviceBytes_ >> 20) +
@@ -204,11 +213,6 @@ void Renderer::uploadScene() {
     };
     deviceBytes_ = params_.size + output_.size + counters_.size + pixelList_.size + guide_.size + sampleStats_.size +
                    readback_.size;
-    primitives_ = {};  // a re-upload (setScene) frees the old arrays first
-    materials_ = {};
-    lights_ = {};
-    bvhNodes_ = {};
-    csgNodes_ = {};
     accelerationStructures_ = {};
     if (trace_ == TracePath::RayQuery) {
         // The device's structures over the bounded primitives replace the
@@ -220,17 +224,17 @@ void Renderer::uploadScene() {
     }
     // The large arrays live on the device from now on: their host copies go
     // as soon as they are uploaded (a 10M-triangle mesh: 1 GB less host memory).
-    primitives_ = upload(scene_.primitives, "primitives");
+    upload(primitives_, scene_.primitives, "primitives");
     deviceBytes_ += primitives_.size;
     std::vector<gpu::Primitive>().swap(scene_.primitives);
-    bvhNodes_ = upload(scene_.bvhNodes, "BVH nodes");
+    upload(bvhNodes_, scene_.bvhNodes, "BVH nodes");
     deviceBytes_ += bvhNodes_.size;
     std::vector<gpu::BvhNode>().swap(scene_.bvhNodes);
-    materials_ = upload(scene_.materials, "materials");
+    upload(materials_, scene_.materials, "materials");
     deviceBytes_ += materials_.size;
-    lights_ = upload(scene_.lights, "lights");
+    upload(lights_, scene_.lights, "lights");
     deviceBytes_ += lights_.size;
-    csgNodes_ = upload(scene_.csgNodes, "CSG nodes");
+    upload(csgNodes_, scene_.csgNodes, "CSG nodes");
     deviceBytes_ += csgNodes_.size;
     glm::uvec2 p = addressWords(primitives_), n = addressWords(bvhNodes_);
     glm::uvec2 m = addressWords(materials_), l = addressWords(lights_);
@@ -241,7 +245,6 @@ void Renderer::uploadScene() {
     scene_.params.csgNodeAddress = addressWords(csgNodes_);
     // Textures and the per-primitive surface attributes (UVs of textured
     // meshes; address 0 when no mesh needs them).
-    attributes_ = {};
     texturesUploaded_ = !texturesMade_ || scene_.textures != uploadedTextures_;
     if (texturesUploaded_) {
         textures_ = {};
@@ -251,9 +254,11 @@ void Renderer::uploadScene() {
     }
     deviceBytes_ += textures_.bytes();
     if (!scene_.attributes.empty()) {
-        attributes_ = upload(scene_.attributes, "surface attributes");
+        upload(attributes_, scene_.attributes, "surface attributes");
         deviceBytes_ += attributes_.size;
         std::vector<gpu::SurfaceAttributes>().swap(scene_.attributes);
+    } else {
+        attributes_ = {};
     }
     scene_.params.attributeAddress = addressWords(attributes_);  // 0 when not made
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
@@ -295,7 +300,8 @@ void Renderer::setScene(const Scene& scene) {
     RenderSettings settings = settings_;
     settings.width = scene_.width;  // the image size stays
     settings.height = scene_.height;
-    scene_ = packSceneThatFits(ctx_, scene, settings);
+    // Ray queries build the device's own structures, not this BVH.
+    scene_ = packSceneThatFits(ctx_, scene, settings, trace_ == TracePath::RayQuery ? nullptr : &bvhParts_);
     // A shape or glass the old scene lacked needs the pipeline that has it;
     // arrays of another size may need the other way of reading them.
     if (specializationFor(scene_) != specialization_ ||

@@ -46,7 +46,10 @@ public:
     // between calls and the caller records the dispatches into its own
     // command buffers. The device must be idle when the scene is replaced.
     // Re-pack and re-upload the scene; the pipeline is rebuilt when the new
-    // scene needs shapes or transparency the old one compiled out.
+    // scene needs shapes or transparency the old one compiled out. Large
+    // meshes get BVH parts of their own, kept for the next setScene: an
+    // edit rebuilds the trees of what it changed, the others are reused
+    // (render/gpu_scene.h BvhPartCache; RenderResult::bvh says how many).
     void setScene(const Scene& scene);
     // Whether the last upload (the first, or setScene's) sent the textures:
     // setScene keeps those on the device when the new scene uses the same
@@ -97,6 +100,7 @@ private:
     VulkanContext& ctx_;
     RenderSettings settings_;
     GpuScene scene_;  // primitives and bvhNodes emptied once uploaded
+    BvhPartCache bvhParts_;  // setScene's (the BVH path's only)
     TracePath trace_ = TracePath::Bvh;  // settings_.trace resolved for the device
     SceneAccelerationStructures accelerationStructures_;  // ray queries only
     ComputePipeline pipeline_;

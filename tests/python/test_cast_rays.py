@@ -191,6 +191,29 @@ def test_mesh_triangles_are_numbered_as_their_faces(renderer):
     np.testing.assert_allclose(under["normal"][:, 1], 1.0, atol=1e-6)
 
 
+def test_a_large_meshs_triangles_keep_their_numbers_in_a_bvh_part():
+    """After an edit, a renderer gives a mesh of 4,096 triangles or more a BVH part of its own, its triangles stored in
+    the part's leaf order: cast_rays still names each by its face index, and a second edit reuses the part."""
+    renderer = whitted.Renderer()
+    vertices, faces = grid_mesh(48)  # 4,608 triangles
+    scene = whitted.Scene()
+    ball = scene.add_sphere((0, -3, 0), 0.5, name="below")
+    scene.add_mesh(vertices, faces, name="grid")
+    renderer.render(scene, width=16, height=12, spp=1)
+    chosen = np.random.default_rng(3).choice(len(faces), 200, replace=False)
+    centroids = vertices[faces[chosen]].mean(axis=1)
+    for step, (reused, built) in enumerate([(0, 4608 + 1), (1, 1)]):
+        move = np.eye(4)
+        move[0, 3] = 0.1 * (step + 1)
+        ball.transform = move
+        record = renderer.render(scene, width=16, height=12, spp=1).record
+        assert record["bvh"]["parts"] == 1
+        assert (record["bvh"]["parts_reused"], record["bvh"]["primitives_built"]) == (reused, built)
+        hits = renderer.cast_rays(scene, centroids + [0.0, 2.0, 0.0], np.tile([0.0, -1.0, 0.0], (len(chosen), 1)))
+        np.testing.assert_array_equal(hits["primitive_id"], chosen)
+        np.testing.assert_allclose(hits["t"], 2.0, rtol=1e-5)
+
+
 CSG_SCENE = """<scene><camera><position x="0" y="0" z="5"/><window_position x="0" y="0" z="4"/><up x="0" y="1" z="0"/>
 <fov>60</fov><width>32</width><height>24</height></camera><ambient_light r="0" g="0" b="0"/><lights></lights>
 <objects>

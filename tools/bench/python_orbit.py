@@ -10,7 +10,13 @@ frames at 320x240, 1 sample per pixel (aa "uniform", spp 1): the build time, fra
 uploaded (result.record["uploads"]), and the frame time of a camera-only change on the same scene; the target is
 a moving frame at most 2x a camera-only frame.
 
-  PYTHONPATH=build/python /usr/bin/python3 tools/bench/python_orbit.py [--part orbit|moving|all] [--frames 100]
+Part "moving-mesh" (--part moving-mesh): the same with a static terrain of 524,288 triangles under the objects,
+where a renderer's BVH parts count (render/gpu_scene.h BvhPartCache): the terrain's tree is built on the first
+edit and reused by every later one, so a frame rebuilds the trees of the 1,000 objects and the top level only. It
+reports what each frame built (result.record["bvh"]: parts reused, primitives whose trees were built).
+
+  PYTHONPATH=build/python /usr/bin/python3 tools/bench/python_orbit.py [--part orbit|moving|moving-mesh|all]
+      [--frames 100]
       [--out FILE.json]
 """
 import argparse
@@ -50,8 +56,21 @@ def octahedron():
     return v, f
 
 
-def moving_objects(whitted, frames, width, height):
-    """The 1,000-object scene built in Python, 100 objects moved a frame, against camera-only frames."""
+def terrain(n):
+    """A wavy n x n grid over [-16, 16]^2 near y = -0.8: 2 n^2 triangles."""
+    import numpy as np
+    xs = np.linspace(-16.0, 16.0, n + 1)
+    x, z = np.meshgrid(xs, xs)
+    y = -0.8 + 0.3 * np.sin(0.7 * x) * np.cos(0.5 * z)
+    vertices = np.stack([x.ravel(), y.ravel(), z.ravel()], 1)
+    index = np.arange((n + 1) * (n + 1)).reshape(n + 1, n + 1)
+    a, b, c, d = index[:-1, :-1].ravel(), index[:-1, 1:].ravel(), index[1:, :-1].ravel(), index[1:, 1:].ravel()
+    return vertices, np.concatenate([np.stack([a, c, b], 1), np.stack([b, c, d], 1)]).astype(np.int32)
+
+
+def moving_objects(whitted, frames, width, height, terrain_quads=0):
+    """The 1,000-object scene built in Python, 100 objects moved a frame, against camera-only frames; with
+    terrain_quads, a static terrain mesh of 2 terrain_quads^2 triangles under them."""
     import numpy as np
     rng = np.random.default_rng(7)
     verts, faces = (np.array(a, dtype=float) for a in octahedron())
@@ -63,6 +82,9 @@ def moving_objects(whitted, frames, width, height):
     scene.ambient_light = (0.15, 0.15, 0.15)
     scene.add_light(position=(10, 30, 20), color=(1, 1, 1))
     scene.add_plane((0, -1, 0), (0, 1, 0), material=whitted.Material(checker_color=(0.2, 0.2, 0.2), checker_size=2))
+    if terrain_quads:
+        scene.add_mesh(*terrain(terrain_quads), material=whitted.Material(diffuse_color=(0.5, 0.6, 0.4)),
+                       name="terrain")
     objects, homes = [], []
     for k in range(1000):
         home = rng.uniform([-15, 0, -15], [15, 6, 15])
@@ -85,7 +107,7 @@ def moving_objects(whitted, frames, width, height):
     first = renderer.render(scene, **options)
     first_seconds = time.perf_counter() - t
 
-    moving, edit, uploads = [], [], {}
+    moving, edit, uploads, built = [], [], {}, {}
     for frame in range(frames):
         t = time.perf_counter()
         for k in rng.choice(len(objects), 100, replace=False):
@@ -101,6 +123,10 @@ def moving_objects(whitted, frames, width, height):
         moving.append(done - t)
         key = json.dumps(result.record["uploads"], sort_keys=True)
         uploads[key] = uploads.get(key, 0) + 1
+        bvh = result.record["bvh"]
+        key = json.dumps({k: bvh.get(k) for k in ("parts", "parts_reused", "primitives_built")}, sort_keys=True)
+        built[key] = built.get(key, 0) + 1
+    last = result
 
     camera, camera_uploads = [], {}
     for frame in range(frames):
@@ -113,8 +139,9 @@ def moving_objects(whitted, frames, width, height):
         camera_uploads[key] = camera_uploads.get(key, 0) + 1
 
     median = lambda xs: sorted(xs)[len(xs) // 2]
-    return {
+    return last, {
         "objects": 1000,
+        "static_terrain_triangles": 2 * terrain_quads * terrain_quads,
         "spheres": 800,
         "meshes": "200 octahedra, 8 triangles each",
         "moved_per_frame": 100,
@@ -127,6 +154,7 @@ def moving_objects(whitted, frames, width, height):
         "moving_frame_seconds_median": round(median(moving), 4),
         "moving_edit_seconds_median": round(median(edit), 4),
         "moving_uploads": {k: v for k, v in uploads.items()},
+        "moving_bvh_built": built,
         "camera_fps": round(frames / sum(camera), 2),
         "camera_frame_seconds_median": round(median(camera), 4),
         "camera_uploads": {k: v for k, v in camera_uploads.items()},
@@ -142,19 +170,25 @@ def main():
     parser.add_argument("--size", default="320x240")
     parser.add_argument("--build", default=str(ROOT / "build"))
     parser.add_argument("--out", default=None, help="JSON file [print only]")
-    parser.add_argument("--part", choices=("orbit", "moving", "all"), default="all")
+    parser.add_argument("--part", choices=("orbit", "moving", "moving-mesh", "all"), default="all")
+    parser.add_argument("--image", default=None,
+                        help="FILE.png: the last moving frame of each part as FILE-PART.png, with its AOVs [none]")
     args = parser.parse_args()
     sys.path.insert(0, str(pathlib.Path(args.build) / "python"))
     import whitted
 
     width, height = map(int, args.size.split("x"))
     report = {"benchmark": "python_orbit", "cpu": cpu_model(), "cores": os.cpu_count()}
-    if args.part in ("moving", "all"):
+    for part, key, quads in (("moving", "moving", 0), ("moving-mesh", "moving_with_mesh", 512)):
+        if args.part not in (part, "all"):
+            continue
         load_before = os.getloadavg()[0]
-        report["moving"] = moving_objects(whitted, args.frames, width, height)
-        report["moving"]["load_average_1min"] = [round(load_before, 2), round(os.getloadavg()[0], 2)]
+        last, report[key] = moving_objects(whitted, args.frames, width, height, quads)
+        report[key]["load_average_1min"] = [round(load_before, 2), round(os.getloadavg()[0], 2)]
         report["device"] = whitted.Renderer().device
-    if args.part == "moving":
+        if args.image:
+            last.save(args.image.replace(".png", f"-{part}.png"))
+    if args.part in ("moving", "moving-mesh"):
         text = json.dumps(report, indent=2)
         print(text)
         if args.out:
