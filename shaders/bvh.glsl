@@ -47,8 +47,9 @@ vec3 safeInverse(vec3 d) {
 #define bvhWalkNodes bvhNodes
 #endif
 
-// One routine serves both queries (`shadow` is a constant at each call, so
-// the other query's code folds away). The unbounded primitives come first,
+// One routine serves both queries: `shadow` is a constant where
+// traceClosest calls it (shaders/cast_rays.comp), so the other query's code
+// folds away, and chosen per ray by traceSamples' one call (traceQuery). The unbounded primitives come first,
 // one by one: a near plane then culls the BVH for closest hits. The BVH
 // loop is flat ("if-if" in Aila and Laine's terms): every iteration first
 // takes one traversal step if the lane has no leaf primitive left to test,

@@ -361,6 +361,11 @@ struct FrameParams {
     uvec2 lightAddress WHITTED_ZERO;       // Light[]
     uvec2 csgNodeAddress WHITTED_ZERO;     // CsgNode[] (CSG trees)
     uvec2 attributeAddress WHITTED_ZERO;   // SurfaceAttributes[] (UVs, tangents), 0 when none
+    // The per-pixel buffers the tracer writes and reads (shaders/scene.glsl), by address as the scene's arrays:
+    uvec2 outputAddress WHITTED_ZERO;       // vec4[]: the output layers' sums
+    uvec2 pixelListAddress WHITTED_ZERO;    // uint[]: the pixels of a list dispatch
+    uvec2 guideAddress WHITTED_ZERO;        // uvec4[]: the adaptive guide
+    uvec2 sampleStatsAddress WHITTED_ZERO;  // uvec4[]: the sample statistics of the list's pixels
 };
 
 // TileParams.flags bits.
@@ -453,7 +458,7 @@ struct RayTreeRay {
 };
 
 // One shadow ray from a hit point towards a light, traced by the renderer's
-// own shadow walk (shadowTransmittance, shaders/intersect.glsl), which goes
+// own shadow walk (traceQuery, shaders/intersect.glsl), which goes
 // on past an opaque surface in the recorder's build so that every surface in
 // (0, distance) is found. visibility is what the walk returned;
 // transmittance the product of the filters of the crossings it handed to

@@ -73,7 +73,7 @@ const bool kShadowWalksAll = false;
 // and the list, the candidates of ray_query.glsl). A transparent surface
 // (kt > 0) filters the light by kt * mix(white, Cd, kd) * Ct, Cd the
 // pigment at the crossing as POV-Ray's filter takes it, and adds the
-// crossing's share of the signed optical depth (see shadowTransmittance).
+// crossing's share of the signed optical depth (see traceQuery).
 // Returns false when the surface is opaque.
 bool shadowCrossing(uint i, Ray ray, float t, vec3 n, inout vec3 transmittance, inout vec3 opticalDepth) {
     uint k = primitives[i].material;
@@ -194,13 +194,20 @@ bool traceClosest(Ray ray, float tMax, out Hit hit) {
     return hit.primitive != 0xffffffffu;
 }
 
-// Light that reaches the end of a shadow ray of length tMax. An opaque
-// surface blocks it; every crossing of a transparent surface (kt > 0)
-// filters it by kt * mix(white, Cd, kd) * Ct (Ct the transmission colour,
-// white by default), so shadows take the colour of glass as in the seed. Each surface crossing counts, so a glass sphere filters
-// twice (in and out), the same as a closed glass mesh. The product does not
-// depend on the order, so the BVH is walked without sorting and the walk
-// ends at the first opaque hit.
+// One query, chosen per ray at run time. Closest hit (`shadow` false): the
+// nearest hit in (0, tMax) into `hit`; returns whether there is one.
+// Shadow ray (`shadow` true): the light that reaches the end of a ray of
+// length tMax, into `visibility`; returns false. traceSamples (whitted.comp)
+// traces all its rays through one call of this, so the driver compiles one
+// copy of the walk.
+//
+// A shadow ray: an opaque surface blocks it; every crossing of a
+// transparent surface (kt > 0) filters it by kt * mix(white, Cd, kd) * Ct
+// (Ct the transmission colour, white by default), so shadows take the
+// colour of glass as in the seed. Each surface crossing counts, so a glass
+// sphere filters twice (in and out), the same as a closed glass mesh. The
+// product does not depend on the order, so the BVH is walked without
+// sorting and the walk ends at the first opaque hit.
 //
 // Absorption (Beer-Lambert) inside objects with sigma > 0 multiplies by
 // exp(-sigma * d), d the length inside. The crossings come unordered, so
@@ -210,12 +217,14 @@ bool traceClosest(Ray ray, float tMax, out Hit hit) {
 // included, and to sigma * t for a ray that starts inside (a point shaded
 // on the inside of glass). A light inside an absorbing object would leave an
 // entry unmatched: the clamp at 0 then drops that object's absorption.
-vec3 shadowTransmittance(Ray ray, float tMax) {
-    Hit unused;
-    unused.t = tMax;
+bool traceQuery(Ray ray, float tMax, bool shadow, out Hit hit, out vec3 visibility) {
+    hit.t = tMax;
+    hit.normal = vec3(0.0);
+    hit.primitive = 0xffffffffu;
     vec3 transmittance = vec3(1.0), opticalDepth = vec3(0.0);
-    if (!traverseScene(ray, tMax, true, unused, transmittance, opticalDepth)) return vec3(0.0);
-    return transmittance * exp(-max(opticalDepth, vec3(0.0)));
+    bool open = traverseScene(ray, tMax, shadow, hit, transmittance, opticalDepth);
+    visibility = open ? transmittance * exp(-max(opticalDepth, vec3(0.0))) : vec3(0.0);
+    return !shadow && hit.primitive != 0xffffffffu;
 }
 
 #endif

@@ -5,7 +5,7 @@
 // written into the RayTreeRecord at TileParams.rayTreeAddress
 // (device_types.h). The values recorded are the tracer's own: its weights,
 // its local terms, and its shadow rays, traced by the renderer's own walk
-// (shadowTransmittance, along the BVH or the ray queries) whose every
+// (traceSamples' one scene query, along the BVH or the ray queries) whose every
 // crossing comes here through shadowCrossing's hook (rayTreeCrossing).
 #ifndef WHITTED_RAY_TREE_GLSL
 #define WHITTED_RAY_TREE_GLSL
@@ -129,21 +129,23 @@ void rayTreeCloseShadowRay(vec3 diffuse, vec3 specular) {
     gRayTreeSpecularBefore = specular;
 }
 
-// shadeLocal's shadow ray towards light `light`, traced here by
-// shadowTransmittance, the renderer's own walk, with its crossings written
-// down as it finds them (in the walk's order; the host sorts them along the
-// ray); returns its visibility. diffuse and specular are shadeLocal's sums
-// so far (before this light's terms).
-vec3 rayTreeShadowRay(uint light, Ray ray, float dist, vec3 diffuse, vec3 specular) {
+// A shadow ray of the walk over the current hit's lights (shading.glsl,
+// nextShadowRay) towards light `light`, written down in two halves around
+// traceSamples' scene query, the renderer's own walk: Begin before it (its
+// crossings are written down as the walk finds them, in the walk's order;
+// the host sorts them along the ray), End with the visibility it found.
+// diffuse and specular are the hit's sums so far (before this sample's
+// terms).
+void rayTreeShadowRayBegin(uint light, Ray ray, float dist, vec3 diffuse, vec3 specular) {
+    gRayTreeShadowOn = false;
     if (gRayTreeCurrent == kNoObject) {  // the ray it belongs to was dropped: so is it, counted
         rayTree.dropped += 1u;
-        return shadowTransmittance(ray, dist);
+        return;
     }
     rayTreeCloseShadowRay(diffuse, specular);
-    uint i = rayTree.shadowRayCount;
-    if (i >= kRayTreeMaxShadowRays) {
+    if (rayTree.shadowRayCount >= kRayTreeMaxShadowRays) {
         rayTree.dropped += 1u;
-        return shadowTransmittance(ray, dist);
+        return;
     }
     RayTreeShadowRay s;
     s.origin = ray.origin;
@@ -167,19 +169,22 @@ vec3 rayTreeShadowRay(uint light, Ray ray, float dist, vec3 diffuse, vec3 specul
     gRayTreeShadow = s;
     gRayTreeOpticalDepth = vec3(0.0);
     gRayTreeShadowOn = true;
-    vec3 visibility = shadowTransmittance(ray, dist);
+}
+
+void rayTreeShadowRayEnd(vec3 visibility) {
+    if (!gRayTreeShadowOn) return;
     gRayTreeShadowOn = false;
-    s = gRayTreeShadow;
+    RayTreeShadowRay s = gRayTreeShadow;
     s.visibility = visibility;
     s.absorption = exp(-max(gRayTreeOpticalDepth, vec3(0.0)));
     // From what was found, written down or not: a shadow ray whose crossings
     // all overflowed the record is still filtered, never lit.
     s.transmittance = s.outcome == kShadowBlocked ? vec3(0.0) : s.transmittance * s.absorption;
+    uint i = rayTree.shadowRayCount;
     rayTree.shadowRayCount = i + 1u;
     rayTree.shadowRays[i] = s;
     // Shadow rays of one ray are consecutive: they are traced while it is shaded.
     rayTree.rays[gRayTreeCurrent].shadowRayCount += 1u;
-    return visibility;
 }
 
 // The current ray hit `hit` and was shaded: its hit, the weight that scaled

@@ -54,30 +54,6 @@ vec3 sampleLightPoint(Light light, vec3 p, vec2 u) {
     return light.position + r * normal;
 }
 
-// One shadow ray from p towards light i, along unit l to distance dist, and
-// what light it lets through, `radiance` on arrival unshadowed, adds to s's
-// diffuse and specular terms (shadeLocal).
-void addLightSample(inout LocalShading s, uint i, Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir, vec3 l,
-                    float dist, vec3 radiance) {
-    float nDotL = dot(n, l);
-    if (nDotL <= 0.0 || dot(ng, l) <= 0.0) return;
-    s.shadowRays += 1u;
-#ifdef WHITTED_PROFILE_NO_SHADOWS  // tools/profile_shader.sh: what shadow rays cost
-    vec3 visibility = vec3(1.0);
-#elif defined(WHITTED_RAY_TREE)  // the same shadowTransmittance, its crossings written down
-    vec3 visibility = rayTreeShadowRay(i, Ray(p, l), dist, s.diffuse, s.specular);
-#else
-    vec3 visibility = shadowTransmittance(Ray(p, l), dist);
-#endif
-    if (all(equal(visibility, vec3(0.0)))) return;
-    vec3 light = visibility * radiance;
-    s.diffuse += light * m.kd * m.diffuse * nDotL;
-    if (m.ks > 0.0) {
-        vec3 r = reflect(-l, n);
-        s.specular += light * m.ks * m.specular * pow(max(dot(r, viewDir), 0.0), m.shininess);
-    }
-}
-
 // Ambient ka Ca A (Ca the material's ambient colour, Cd without one) plus,
 // per light, its visibility (shadow ray) times its arriving light E times
 // kd Cd max(N.L, 0) + ks Cs max(R.V, 0)^shininess. E is the light's colour
@@ -96,60 +72,135 @@ void addLightSample(inout LocalShading s, uint i, Material m, vec3 p, vec3 n, ve
 // pixelSeed, kDimLightBase + i), so adaptive refinement refines penumbras.
 // A rect light gives nothing to points behind its face (u x v) unless it is
 // two-sided.
-LocalShading shadeLocal(Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir, uint sampleIndex, uint patternSize,
-                        uint pixelSeed) {
+//
+// The sum over lights and their samples is a walk: nextShadowRay hands out
+// the next sample's shadow ray, traceSamples (whitted.comp) traces it
+// through the same call of traceQuery as the ray that hit, and
+// addShadowedLight adds what it lets through, so the BVH walk is compiled
+// once.
+
+// Where the walk over a hit's light samples stands.
+struct LightWalk {
+    uint light;      // the light whose samples are walked
+    uint taken;      // its samples handed out so far; 0: the light is set up first
+    uint count;      // its number of samples
+    bool area;       // an area light: each sample draws a point on it
+    vec3 l;          // a point or directional light: the unit direction to it
+    float dist;      // and the shadow ray's length
+    vec3 radiance;   // what each sample brings unshadowed
+};
+
+// A shadow ray handed out by nextShadowRay and the terms its light adds,
+// times its visibility.
+struct ShadowQuery {
+    Ray ray;
+    float dist;
+    uint light;
+    vec3 radiance;
+    float nDotL;
+    float highlight;  // max(R.V, 0)^shininess (0 when ks is 0)
+};
+
+LocalShading startShading(Material m, out LightWalk walk) {
     LocalShading s;
     vec3 ambientColor = (m.flags & kMaterialAmbientColor) != 0u ? m.ambientColor : m.diffuse;
     s.ambient = m.ka * ambientColor * params.ambientLight;
     s.diffuse = vec3(0.0);
     s.specular = vec3(0.0);
     s.shadowRays = 0u;
+    walk.light = 0u;
+    walk.taken = 0u;
+    walk.count = 0u;
+    walk.area = false;
+    walk.l = vec3(0.0);
+    walk.dist = 0.0;
+    walk.radiance = vec3(0.0);
+    return s;
+}
+
+// Adds the light of shadow ray q, which lets `visibility` through, to s.
+void addShadowedLight(inout LocalShading s, Material m, ShadowQuery q, vec3 visibility) {
+    if (all(equal(visibility, vec3(0.0)))) return;
+    vec3 light = visibility * q.radiance;
+    s.diffuse += light * m.kd * m.diffuse * q.nDotL;
+    if (m.ks > 0.0) s.specular += light * m.ks * m.specular * q.highlight;
+}
+
+// The next light sample of the walk that needs a shadow ray (one in front
+// of both normals), as q; false when the walk is done. Counts the shadow
+// rays in s.
+bool nextShadowRay(inout LocalShading s, inout LightWalk w, Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir,
+                   uint sampleIndex, uint patternSize, uint pixelSeed, out ShadowQuery q) {
     uint lightCount = params.lightCount;
 #ifdef WHITTED_PROFILE_NO_LIGHTS  // tools/profile_shader.sh: ambient only, no light loop
     lightCount = 0u;
 #endif
     if (m.kd <= 0.0 && m.ks <= 0.0) lightCount = 0u;
-    for (uint i = 0u; i < lightCount; ++i) {
-        uint type = lights[i].type;
-        vec3 l;
-        float dist;
-        float attenuation = 1.0;
-        if (type == kLightDirectional) {
-            l = -lights[i].direction;
-            dist = kRayInfinity;
-        } else {
-            vec3 toLight = lights[i].position - p;
-            dist = length(toLight);
-            l = toLight / dist;
-            if (lights[i].falloff == kFalloffInverseSquare) attenuation = 1.0 / (dist * dist);
-            if (type == kLightSpot) {
-                float cosOuter = lights[i].cosOuter;
-                float cone = clamp((dot(-l, lights[i].direction) - cosOuter) / (lights[i].cosInner - cosOuter),
-                                   0.0, 1.0);
-                attenuation *= cone * cone;
+    while (w.light < lightCount) {
+        uint i = w.light;
+        if (w.taken == 0u) {
+            uint type = lights[i].type;
+            vec3 l;
+            float dist;
+            float attenuation = 1.0;
+            if (type == kLightDirectional) {
+                l = -lights[i].direction;
+                dist = kRayInfinity;
+            } else {
+                vec3 toLight = lights[i].position - p;
+                dist = length(toLight);
+                l = toLight / dist;
+                if (lights[i].falloff == kFalloffInverseSquare) attenuation = 1.0 / (dist * dist);
+                if (type == kLightSpot) {
+                    float cosOuter = lights[i].cosOuter;
+                    float cone = clamp((dot(-l, lights[i].direction) - cosOuter) / (lights[i].cosInner - cosOuter),
+                                       0.0, 1.0);
+                    attenuation *= cone * cone;
+                }
             }
-        }
-        if (attenuation <= 0.0) continue;
-        // A point or directional light keeps l and dist and draws no sample.
-        // One call of addLightSample for both (its shadow walk is inlined
-        // once).
-        bool area = kHasAreaLights && (type == kLightRect || lights[i].radius > 0.0);
-        if (kHasAreaLights && type == kLightRect && lights[i].twoSided == 0u &&
-            dot(l, cross(lights[i].u, lights[i].v)) >= 0.0)
-            continue;  // behind a one-sided rectangle
-        uint count = area ? lights[i].shadowSamples : 1u;
-        vec3 radiance = lights[i].color * (area ? attenuation / float(count) : attenuation);
-        for (uint k = 0u; k < count; ++k) {
-            if (area) {
-                vec2 u = sampleDimension(sampleIndex * count + k, patternSize * count, pixelSeed, kDimLightBase + i);
-                vec3 toPoint = sampleLightPoint(lights[i], p, u) - p;
-                dist = length(toPoint);
-                l = toPoint / dist;
+            bool behindRect = kHasAreaLights && type == kLightRect && lights[i].twoSided == 0u &&
+                              dot(l, cross(lights[i].u, lights[i].v)) >= 0.0;
+            if (attenuation <= 0.0 || behindRect) {
+                ++w.light;
+                continue;
             }
-            addLightSample(s, i, m, p, n, ng, viewDir, l, dist, radiance);
+            // A point or directional light keeps l and dist and draws no sample.
+            w.area = kHasAreaLights && (type == kLightRect || lights[i].radius > 0.0);
+            w.count = w.area ? lights[i].shadowSamples : 1u;
+            w.radiance = lights[i].color * (w.area ? attenuation / float(w.count) : attenuation);
+            w.l = l;
+            w.dist = dist;
         }
+        uint k = w.taken;
+        if (++w.taken >= w.count) {
+            ++w.light;
+            w.taken = 0u;
+        }
+        if (k >= w.count) continue;  // a light of no samples
+        vec3 l = w.l;
+        float dist = w.dist;
+        if (w.area) {
+            vec2 u = sampleDimension(sampleIndex * w.count + k, patternSize * w.count, pixelSeed, kDimLightBase + i);
+            vec3 toPoint = sampleLightPoint(lights[i], p, u) - p;
+            dist = length(toPoint);
+            l = toPoint / dist;
+        }
+        float nDotL = dot(n, l);
+        if (nDotL <= 0.0 || dot(ng, l) <= 0.0) continue;
+        s.shadowRays += 1u;
+        q.ray = Ray(p, l);
+        q.dist = dist;
+        q.light = i;
+        q.radiance = w.radiance;
+        q.nDotL = nDotL;
+        q.highlight = m.ks > 0.0 ? pow(max(dot(reflect(-l, n), viewDir), 0.0), m.shininess) : 0.0;
+#ifdef WHITTED_PROFILE_NO_SHADOWS  // tools/profile_shader.sh: what shadow rays cost
+        addShadowedLight(s, m, q, vec3(1.0));
+        continue;
+#endif
+        return true;
     }
-    return s;
+    return false;
 }
 
 // The direction of a glossy reflected or refracted ray: drawn from the Phong lobe of exponent e about the ideal

@@ -84,23 +84,28 @@ void addBounceSplit(uint component, uint depth, vec3 light) {
     outputLayers[i].rgb += light;
 }
 
-// Traces samples [first, end) of pattern size n of a pixel in ONE loop: when
+// Traces samples [first, end) of pattern size patternSize of a pixel in ONE loop: when
 // a sample's ray tree is done, the next sample's camera ray enters the stack
 // in the same iteration. Lanes run in lockstep on a SIMD CPU driver
 // (lavapipe), so a loop per sample would make every lane wait for the
 // longest ray tree of each sample; with one loop a lane waits only at the
 // end. Each lane still adds its own samples in order, so the sums are
 // unchanged.
-// With `probe`, the ray through the pixel's centre is traced first, through the same traceClosest as the
-// samples (one copy of the traversal for the driver to compile), and what it hits first goes to `ids`
-// (object, material; kNoObject for none).
-void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, inout SampleResult result,
+// A ray from the stack is traced, then its hit's shadow rays (shading.glsl,
+// nextShadowRay), all through the one call of traceQuery in the inner loop:
+// the driver compiles one copy of the BVH walk, where the closest-hit query
+// and the shadow query inside the light loop inlined one each. On
+// lavapipe that made renders 11-44% faster (tools/benchmark_results/README.md,
+// "Profiling and what each change gained") and left the first render's
+// compile as it was.
+// With `probe`, the ray through the pixel's centre is traced first, as the samples' rays are, and what it
+// hits first goes to `ids` (object, material; kNoObject for none).
+void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixelSeed, inout SampleResult result,
                   inout SampleSpread spread, inout uvec3 rayCount, bool probe, inout uvec2 ids) {
     PendingRay stack[kRayStackSize];
     int top = 0;
     uint maxDepth = params.maxDepth;
     uint nextSample = first;  // the current camera sample is nextSample - 1
-    uint patternSize = n;     // (n below is a hit's normal)
     vec2 size = vec2(params.width, params.height);
     vec3 sampleColor = vec3(0.0);  // the current sample's colour so far
     uint sampleObject = kNoObject;
@@ -118,109 +123,159 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
     bool pinholeAovs = lens && (params.options & kWriteAovs) != 0u;
 
     while (probe || top > 0 || nextSample < end) {
+        // The probe and each camera sample enter the stack through one call of generateCameraRay.
         bool probing = probe;
-        if (probing) {
-            Ray ray = generateCameraRay(vec2(pixel) + vec2(0.5), size, params.eye, params.forward, params.right,
-                                        params.up, params.projection);
-            stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u, pixelCone);
-            probe = false;
-        } else if (top == 0) {
-            if (nextSample > first) addToSpread(spread, sampleColor, sampleObject, nextSample == first + 1u);
-            sampleColor = vec3(0.0);
-            sampleObject = kNoObject;
-            vec2 offset = pixelSampleOffset(nextSample, n, pixelSeed);
-            Ray ray = generateCameraRay(vec2(pixel) + offset, size, params.eye, params.forward,
-                                        params.right, params.up, params.projection);
-            Ray pinhole = ray;
-            if (lens)
-                ray = thinLensRay(ray, params.right, params.up, params.apertureRadius, params.focusDistance,
-                                  sampleDimension(nextSample, n, pixelSeed, kDimLens));
-            stack[top++] = PendingRay(ray, vec3(1.0), 0u, 0u, pixelCone);
+        if (top == 0) {
+            if (!probing) {
+                if (nextSample > first) addToSpread(spread, sampleColor, sampleObject, nextSample == first + 1u);
+                sampleColor = vec3(0.0);
+                sampleObject = kNoObject;
+            }
+            vec2 offset = probing ? vec2(0.5) : pixelSampleOffset(nextSample, patternSize, pixelSeed);
+            Ray camera = generateCameraRay(vec2(pixel) + offset, size, params.eye, params.forward, params.right,
+                                           params.up, params.projection);
+            Ray pinhole = camera;
+            if (lens && !probing)
+                camera = thinLensRay(camera, params.right, params.up, params.apertureRadius, params.focusDistance,
+                                     sampleDimension(nextSample, patternSize, pixelSeed, kDimLens));
+            stack[top++] = PendingRay(camera, vec3(1.0), 0u, 0u, pixelCone);
+            if (probing) {
+                probe = false;
+            } else {
 #ifdef WHITTED_RAY_TREE
-            rayTreePush(top - 1, kRayCamera, ray, vec3(1.0), 0u);
+                rayTreePush(top - 1, kRayCamera, camera, vec3(1.0), 0u);
 #endif
-            if (pinholeAovs) stack[top++] = PendingRay(pinhole, vec3(1.0), 0u, kPinholeAovRay, pixelCone);
-            rayCount.x += 1u;
-            ++nextSample;
+                if (pinholeAovs) stack[top++] = PendingRay(pinhole, vec3(1.0), 0u, kPinholeAovRay, pixelCone);
+                rayCount.x += 1u;
+                ++nextSample;
+            }
         }
         PendingRay pending = stack[--top];
         bool aovRay = pending.component == kPinholeAovRay;
 #ifdef WHITTED_RAY_TREE
         if (!probing && !aovRay) rayTreePop(top);
 #endif
-        Ray ray = pending.ray;
         if (pending.depth > 0u) rayCount.z += 1u;
-        Hit hit;
 #ifdef WHITTED_PROFILE_CAMERA_ONLY  // tools/profile_shader.sh: camera rays made, none traced
         continue;
 #endif
-        bool found = traceClosest(ray, 3.0e38, hit);
-        if (probing) {
-            if (found) ids = uvec2(primitives[hit.primitive].extra1, primitives[hit.primitive].material);
-            continue;
-        }
-        if (!found) continue;  // background is black
+
+        // The ray's closest hit, then the shadow rays of its lights, each
+        // through the one call of traceQuery.
+        Ray ray = pending.ray;
+        Ray queryRay = ray;
+        float tMax = 3.0e38;
+        bool shadow = false, shaded = false;
+        ShadowQuery query;
+        LightWalk walk;
+        LocalShading local;
+        Material m;  // the material at the hit (textures applied)
+        vec3 p, pOutside, n, ns;
+        bool frontFace;
+        float coneWidth, curvature;
+        uint hitMaterial;
+#ifdef WHITTED_RAY_TREE
+        Hit shadedHit;
+        Primitive shadedPrim;
+#endif
+        do {
+            Hit hit;
+            vec3 visibility;
+            bool found = traceQuery(queryRay, tMax, shadow, hit, visibility);
+            if (shadow) {
+#ifdef WHITTED_RAY_TREE
+                rayTreeShadowRayEnd(visibility);
+#endif
+                addShadowedLight(local, m, query, visibility);
+            } else {
+                if (!found) break;  // background is black (and the probe's ids stay kNoObject)
 #ifdef WHITTED_PROFILE_NO_SHADING  // tools/profile_shader.sh: camera rays traced, not shaded
-        result.components[0] += abs(hit.normal);
-        continue;
+                result.components[0] += abs(hit.normal);
+                break;
 #endif
+                Primitive prim = primitives[hit.primitive];
+                if (probing) {
+                    ids = uvec2(prim.extra1, prim.material);
+                    break;
+                }
+                m = materials[prim.material];
+                hitMaterial = prim.material;
 
-        Primitive prim = primitives[hit.primitive];
-        Material m = materials[prim.material];
-        float kr = m.kr, kt = m.kt, ior = m.ior;
-
-        // Which side was hit is decided by the geometric normal; shading
-        // uses the normal facing the incoming ray (two-sided surfaces). The
-        // geometric normal n also places the ray origins; the shading normal
-        // ns differs from it on smooth mesh triangles only.
-        bool frontFace = dot(ray.dir, hit.normal) < 0.0;
-        vec3 n = frontFace ? hit.normal : -hit.normal;
-        vec3 p = ray.origin + hit.t * ray.dir;
-        vec3 pOutside = offsetRay(p, n);
-        vec3 ns = shadingNormal(prim, p, n, -ray.dir);
-        // Beer-Lambert: a ray that hits the inside of an object travelled
-        // hit.t through it, so all that comes back along it is attenuated.
-        if (!frontFace) pending.weight *= exp(-m.absorption * hit.t);
-        m.diffuse = pigment(m.diffuse, m.checkerColor, m.checkerSize, m.checkerOrigin, p);
-        // The cone's footprint here filters the diffuse texture, the
-        // emission texture and the normal map; a mapped normal is kept facing
-        // the viewer as shadingNormal() keeps an interpolated one.
-        float coneWidth = pending.cone.x + pending.cone.y * hit.t;
+                // Which side was hit is decided by the geometric normal; shading
+                // uses the normal facing the incoming ray (two-sided surfaces). The
+                // geometric normal n also places the ray origins; the shading normal
+                // ns differs from it on smooth mesh triangles only.
+                frontFace = dot(ray.dir, hit.normal) < 0.0;
+                n = frontFace ? hit.normal : -hit.normal;
+                p = ray.origin + hit.t * ray.dir;
+                pOutside = offsetRay(p, n);
+                ns = shadingNormal(prim, p, n, -ray.dir);
+                // Beer-Lambert: a ray that hits the inside of an object travelled
+                // hit.t through it, so all that comes back along it is attenuated.
+                if (!frontFace) pending.weight *= exp(-m.absorption * hit.t);
+                m.diffuse = pigment(m.diffuse, m.checkerColor, m.checkerSize, m.checkerOrigin, p);
+                // The cone's footprint here filters the diffuse texture, the
+                // emission texture and the normal map; a mapped normal is kept facing
+                // the viewer as shadingNormal() keeps an interpolated one.
+                coneWidth = pending.cone.x + pending.cone.y * hit.t;
 #ifndef WHITTED_NO_TEXTURES  // the build for scenes without textures (host/render/device_policy.cpp)
-        uvec4 slots = uvec4(m.diffuseTexture, m.normalMap, m.emissionTexture, m.roughnessTexture);
-        if (any(notEqual(slots, uvec4(kNoTexture)))) {
-            SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, m.textureScale);
-            float cosine = abs(dot(ray.dir, n));
-            if (slots.x != kNoTexture)
-                m.diffuse *= textureColor(slots.x, s.uv, rayConeLod(slots.x, s, coneWidth, cosine));
-            if (slots.z != kNoTexture)
-                m.emission *= textureColor(slots.z, s.uv, rayConeLod(slots.z, s, coneWidth, cosine));
-            // A roughness texture: the roughness here is <roughness> times
-            // its green channel (glTF's metallicRoughnessTexture), and the
-            // lobe's exponent follows as the host's glossyLobeExponent
-            // (Walter et al. 2007: 2 / alpha^2 - 2, alpha = r^2); r = 0 is
-            // the mirror (exponent < 0: no lobe).
-            if (kHasGloss && slots.w != kNoTexture) {
-                float r = m.roughness * textureColor(slots.w, s.uv, rayConeLod(slots.w, s, coneWidth, cosine)).g;
-                float alpha = r * r;
-                m.glossExponent = alpha * alpha > 0.0 ? 2.0 / (alpha * alpha) - 2.0 : -1.0;
-            }
-            if (slots.y != kNoTexture) {
-                ns = normalMapped(slots.y, m.normalStrength, s, ns, rayConeLod(slots.y, s, coneWidth, cosine));
-                float facing = dot(ns, -ray.dir);
-                if (facing < 1e-3) ns = normalize(ns + (1e-3 - facing) * -ray.dir);
-            }
-        }
+                uvec4 slots = uvec4(m.diffuseTexture, m.normalMap, m.emissionTexture, m.roughnessTexture);
+                if (any(notEqual(slots, uvec4(kNoTexture)))) {
+                    SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, m.textureScale);
+                    float cosine = abs(dot(ray.dir, n));
+                    if (slots.x != kNoTexture)
+                        m.diffuse *= textureColor(slots.x, s.uv, rayConeLod(slots.x, s, coneWidth, cosine));
+                    if (slots.z != kNoTexture)
+                        m.emission *= textureColor(slots.z, s.uv, rayConeLod(slots.z, s, coneWidth, cosine));
+                    // A roughness texture: the roughness here is <roughness> times
+                    // its green channel (glTF's metallicRoughnessTexture), and the
+                    // lobe's exponent follows as the host's glossyLobeExponent
+                    // (Walter et al. 2007: 2 / alpha^2 - 2, alpha = r^2); r = 0 is
+                    // the mirror (exponent < 0: no lobe).
+                    if (kHasGloss && slots.w != kNoTexture) {
+                        float r = m.roughness * textureColor(slots.w, s.uv, rayConeLod(slots.w, s, coneWidth, cosine)).g;
+                        float alpha = r * r;
+                        m.glossExponent = alpha * alpha > 0.0 ? 2.0 / (alpha * alpha) - 2.0 : -1.0;
+                    }
+                    if (slots.y != kNoTexture) {
+                        ns = normalMapped(slots.y, m.normalStrength, s, ns, rayConeLod(slots.y, s, coneWidth, cosine));
+                        float facing = dot(ns, -ray.dir);
+                        if (facing < 1e-3) ns = normalize(ns + (1e-3 - facing) * -ray.dir);
+                    }
+                }
 #endif
 
-        if (aovRay || (pending.depth == 0u && !lens)) {  // the auxiliary layers of the pinhole ray
-            result.normal += vec4(ns, 1.0);
-            result.coefs0 += vec4(m.ka, m.kd, m.ks, hit.t);
-            result.coefs1 += vec4(kr, kt, ior, 1.0);
-            if (aovRay) continue;
-        }
+                if (aovRay || (pending.depth == 0u && !lens)) {  // the auxiliary layers of the pinhole ray
+                    result.normal += vec4(ns, 1.0);
+                    result.coefs0 += vec4(m.ka, m.kd, m.ks, hit.t);
+                    result.coefs1 += vec4(m.kr, m.kt, m.ior, 1.0);
+                    if (aovRay) break;
+                }
+                // The children's cones start with this footprint; a curved surface
+                // spreads them (paraxial optics, signed curvature k > 0 convex
+                // towards the ray): a mirror adds 2 k w (focal length 1 / (2 k)),
+                // refraction from index n1 into n2 scales the angle by
+                // eta = n1 / n2 and adds -(1 - eta) k w (the surface's power).
+                curvature = surfaceCurvature(prim, hit.normal, p) * (frontFace ? 1.0 : -1.0);
+#ifdef WHITTED_RAY_TREE
+                shadedHit = hit;
+                shadedPrim = prim;
+#endif
+                local = startShading(m, walk);
+                shaded = true;
+            }
+            // The hit's next shadow ray, if it has one left, is the next query.
+            shadow = nextShadowRay(local, walk, m, pOutside, ns, n, -ray.dir, nextSample - 1u, patternSize,
+                                   pixelSeed, query);
+            queryRay = query.ray;
+            tMax = query.dist;
+#ifdef WHITTED_RAY_TREE
+            if (shadow) rayTreeShadowRayBegin(query.light, queryRay, tMax, local.diffuse, local.specular);
+#endif
+        } while (shadow);
+        if (!shaded) continue;
 
-        LocalShading local = shadeLocal(m, pOutside, ns, n, -ray.dir, nextSample - 1u, patternSize, pixelSeed);
+        // The hit is shaded: its terms and its secondary rays.
         // Emission is added where a ray hits the surface (it lights nothing
         // else); it counts in the ambient component, the other constant term.
         local.ambient += m.emission;
@@ -230,7 +285,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             result.components[1] += pending.weight * local.diffuse;
             result.components[2] += pending.weight * local.specular;
             sampleColor += pending.weight * (local.ambient + local.diffuse + local.specular);
-            sampleObject = prim.material;
+            sampleObject = hitMaterial;
         } else {
             vec3 light = pending.weight * (local.ambient + local.diffuse + local.specular);
             result.components[pending.component - 1u] += light;
@@ -238,7 +293,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
             sampleColor += light;
         }
 #ifdef WHITTED_RAY_TREE
-        rayTreeShaded(hit, prim, frontFace, p, ns, pending.weight, local, m.emission);
+        rayTreeShaded(shadedHit, shadedPrim, frontFace, p, ns, pending.weight, local, m.emission);
 #endif
         if (pending.depth >= maxDepth) continue;
         // Secondary rays: refraction by Snell's law with the object's IOR
@@ -246,6 +301,8 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         // into the reflected ray. Directions bent by the shading normal that
         // would stay on the wrong side of the geometric surface fall back to
         // the geometric normal's.
+        Ray incoming = ray;
+        float kr = m.kr, kt = m.kt, ior = m.ior;
         uint childDepth = pending.depth + 1u;
         // With fresnel, kr is F0 of Schlick's approximation (Schlick 1994):
         // F = kr + (1 - kr)(1 - cos theta)^5; the reflected ray weighs Cs F,
@@ -255,7 +312,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         float transmitWeight = kt;
         vec3 reflectWeight;
         if ((m.flags & kMaterialFresnel) != 0u) {
-            float cosTheta = clamp(dot(-ray.dir, ns), 0.0, 1.0);
+            float cosTheta = clamp(dot(-incoming.dir, ns), 0.0, 1.0);
             float eta = frontFace ? 1.0 / ior : ior;
             if (kt > 0.0 && eta > 1.0) {
                 float sin2Transmitted = eta * eta * (1.0 - cosTheta * cosTheta);
@@ -267,12 +324,6 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         } else {
             reflectWeight = kr * m.specular;
         }
-        // The children's cones start with this footprint; a curved surface
-        // spreads them (paraxial optics, signed curvature k > 0 convex
-        // towards the ray): a mirror adds 2 k w (focal length 1 / (2 k)),
-        // refraction from index n1 into n2 scales the angle by
-        // eta = n1 / n2 and adds -(1 - eta) k w (the surface's power).
-        float curvature = surfaceCurvature(prim, hit.normal, p) * (frontFace ? 1.0 : -1.0);
         // A glossy material (roughness > 0) sends each child along a direction
         // drawn from a lobe about the ideal one (shading.glsl, glossyDirection), from
         // this sample's dimension for the ray's depth (sampling.glsl).
@@ -282,8 +333,8 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
                                  : vec2(0.0);
         if (kt > 0.0) {
             float eta = frontFace ? 1.0 / ior : ior;
-            vec3 refracted = refract(ray.dir, ns, eta);
-            if (dot(refracted, n) >= 0.0) refracted = refract(ray.dir, n, eta);
+            vec3 refracted = refract(incoming.dir, ns, eta);
+            if (dot(refracted, n) >= 0.0) refracted = refract(incoming.dir, n, eta);
             if (all(equal(refracted, vec3(0.0)))) {
                 reflectWeight += vec3(transmitWeight);
 #ifdef WHITTED_RAY_TREE
@@ -304,8 +355,8 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint n, uint pixelSeed, ino
         }
         if (any(greaterThan(reflectWeight, vec3(0.0)))) {
             uint component = pending.depth == 0u ? kAovReflection : pending.component;
-            vec3 reflected = reflect(ray.dir, ns);
-            if (dot(reflected, n) <= 0.0) reflected = reflect(ray.dir, n);
+            vec3 reflected = reflect(incoming.dir, ns);
+            if (dot(reflected, n) <= 0.0) reflected = reflect(incoming.dir, n);
             if (glossy) reflected = glossyDirection(reflected, n, m.glossExponent, lobeSample);
             vec2 cone = vec2(coneWidth, pending.cone.y + 2.0 * curvature * coneWidth);
             stack[top++] = PendingRay(Ray(pOutside, reflected),

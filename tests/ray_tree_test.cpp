@@ -66,7 +66,7 @@ void expectTree(const RayTree& tree, int maxDepth) {
 }
 
 // The recorder's crossing-by-crossing transmittance is the renderer's
-// shadowTransmittance, and each ray's contribution is its weight times its
+// shadow query (traceQuery), and each ray's contribution is its weight times its
 // local terms, the per-light shares adding up to them.
 void expectShadowsAgree(const RayTree& tree) {
     for (const gpu::RayTreeShadowRay& s : tree.shadowRays)

@@ -127,7 +127,7 @@ glm::vec3 cameraDirection(const CameraFrame& c, glm::vec2 pixel, glm::vec2 size)
 // ---- the scene as Embree geometry ----
 
 struct Surface {
-    bool lit = false;  // kd > 0 or ks > 0: shadeLocal traces shadow rays from it
+    bool lit = false;  // kd > 0 or ks > 0: the shader traces shadow rays from it (nextShadowRay)
 };
 
 struct PlaneShape {

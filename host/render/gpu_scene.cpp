@@ -50,7 +50,7 @@ static_assert(sizeof(gpu::BvhNode) == 80 && offsetof(gpu::BvhNode, origin) == 0 
               offsetof(gpu::BvhNode, quantY) == 48 && offsetof(gpu::BvhNode, quantZ) == 64);
 static_assert(sizeof(gpu::CsgNode) == 16 && offsetof(gpu::CsgNode, op) == 0 &&
               offsetof(gpu::CsgNode, leaf) == 4);
-static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, eye) == 0 &&
+static_assert(sizeof(gpu::FrameParams) == 208 && offsetof(gpu::FrameParams, eye) == 0 &&
               offsetof(gpu::FrameParams, projection) == 12 &&
               offsetof(gpu::FrameParams, forward) == 16 && offsetof(gpu::FrameParams, apertureRadius) == 28 &&
               offsetof(gpu::FrameParams, right) == 32 && offsetof(gpu::FrameParams, focusDistance) == 44 &&
@@ -68,7 +68,11 @@ static_assert(sizeof(gpu::FrameParams) == 176 && offsetof(gpu::FrameParams, eye)
               offsetof(gpu::FrameParams, materialAddress) == 144 &&
               offsetof(gpu::FrameParams, lightAddress) == 152 &&
               offsetof(gpu::FrameParams, csgNodeAddress) == 160 &&
-              offsetof(gpu::FrameParams, attributeAddress) == 168);
+              offsetof(gpu::FrameParams, attributeAddress) == 168 &&
+              offsetof(gpu::FrameParams, outputAddress) == 176 &&
+              offsetof(gpu::FrameParams, pixelListAddress) == 184 &&
+              offsetof(gpu::FrameParams, guideAddress) == 192 &&
+              offsetof(gpu::FrameParams, sampleStatsAddress) == 200);
 static_assert(sizeof(gpu::TileParams) == 80 && offsetof(gpu::TileParams, tileOrigin) == 0 &&
               offsetof(gpu::TileParams, tileSize) == 8 && offsetof(gpu::TileParams, firstSample) == 16 &&
               offsetof(gpu::TileParams, sampleCount) == 20 && offsetof(gpu::TileParams, patternSize) == 24 &&

@@ -60,6 +60,8 @@ std::span<const uint32_t> embeddedTracer(ShaderVariant variant) {
 }
 
 constexpr vk::BufferUsageFlags kStorage = vk::BufferUsageFlagBits::eStorageBuffer;
+// The per-pixel buffers, bound as storage buffers (the StorageBuffers variant) and read by address (the others).
+constexpr vk::BufferUsageFlags kAddressedStorage = kStorage | vk::BufferUsageFlagBits::eShaderDeviceAddress;
 
 // Packs the scene after checking that each of its arrays fits one device
 // buffer: a scene too large is refused before its BVH is built. Running out
@@ -144,12 +146,12 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
 
     size_t bandPixels = size_t(bandRows_ + 2 * border) * (region.width() + 2 * border);
     params_ = createBuffer(ctx, sizeof(gpu::FrameParams), vk::BufferUsageFlagBits::eUniformBuffer, kHostVisible);
-    output_ = createDeviceBuffer(ctx, nullptr, outputRow * bandRows_, kStorage | vk::BufferUsageFlagBits::eTransferSrc);
+    output_ = createDeviceBuffer(ctx, nullptr, outputRow * bandRows_, kAddressedStorage | vk::BufferUsageFlagBits::eTransferSrc);
     counters_ = createBuffer(ctx, sizeof(gpu::RayCounters), kStorage, kHostVisible);
     size_t adaptivePixels = adaptive ? bandPixels : 1;  // a buffer must not be empty
-    pixelList_ = createBuffer(ctx, adaptivePixels * sizeof(uint32_t), kStorage, kHostVisible);
-    sampleStats_ = createBuffer(ctx, adaptivePixels * 2 * sizeof(glm::uvec4), kStorage, kHostVisible);
-    guide_ = createBuffer(ctx, adaptivePixels * sizeof(glm::uvec4), kStorage, kHostVisible);
+    pixelList_ = createBuffer(ctx, adaptivePixels * sizeof(uint32_t), kAddressedStorage, kHostVisible);
+    sampleStats_ = createBuffer(ctx, adaptivePixels * 2 * sizeof(glm::uvec4), kAddressedStorage, kHostVisible);
+    guide_ = createBuffer(ctx, adaptivePixels * sizeof(glm::uvec4), kAddressedStorage, kHostVisible);
     if (settings.bandBytes != 0)
         readback_ = createBuffer(ctx, outputRow * bandRows_, vk::BufferUsageFlagBits::eTransferDst, kHostVisible);
     vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1},
@@ -243,6 +245,10 @@ void Renderer::uploadScene() {
     scene_.params.materialAddress = m;
     scene_.params.lightAddress = l;
     scene_.params.csgNodeAddress = addressWords(csgNodes_);
+    scene_.params.outputAddress = addressWords(output_);
+    scene_.params.pixelListAddress = addressWords(pixelList_);
+    scene_.params.guideAddress = addressWords(guide_);
+    scene_.params.sampleStatsAddress = addressWords(sampleStats_);
     // Textures and the per-primitive surface attributes (UVs of textured
     // meshes; address 0 when no mesh needs them).
     texturesUploaded_ = !texturesMade_ || scene_.textures != uploadedTextures_;
