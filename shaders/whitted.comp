@@ -267,11 +267,13 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
             // The hit's next shadow ray, if it has one left, is the next query.
             shadow = nextShadowRay(local, walk, m, pOutside, ns, n, -ray.dir, nextSample - 1u, patternSize,
                                    pixelSeed, query);
-            queryRay = query.ray;
-            tMax = query.dist;
+            if (shadow) {
+                queryRay = query.ray;
+                tMax = query.dist;
 #ifdef WHITTED_RAY_TREE
-            if (shadow) rayTreeShadowRayBegin(query.light, queryRay, tMax, local.diffuse, local.specular);
+                rayTreeShadowRayBegin(query.light, queryRay, tMax, local.diffuse, local.specular);
 #endif
+            }
         } while (shadow);
         if (!shaded) continue;
 
@@ -301,7 +303,6 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
         // into the reflected ray. Directions bent by the shading normal that
         // would stay on the wrong side of the geometric surface fall back to
         // the geometric normal's.
-        Ray incoming = ray;
         float kr = m.kr, kt = m.kt, ior = m.ior;
         uint childDepth = pending.depth + 1u;
         // With fresnel, kr is F0 of Schlick's approximation (Schlick 1994):
@@ -312,7 +313,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
         float transmitWeight = kt;
         vec3 reflectWeight;
         if ((m.flags & kMaterialFresnel) != 0u) {
-            float cosTheta = clamp(dot(-incoming.dir, ns), 0.0, 1.0);
+            float cosTheta = clamp(dot(-ray.dir, ns), 0.0, 1.0);
             float eta = frontFace ? 1.0 / ior : ior;
             if (kt > 0.0 && eta > 1.0) {
                 float sin2Transmitted = eta * eta * (1.0 - cosTheta * cosTheta);
@@ -333,8 +334,8 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
                                  : vec2(0.0);
         if (kt > 0.0) {
             float eta = frontFace ? 1.0 / ior : ior;
-            vec3 refracted = refract(incoming.dir, ns, eta);
-            if (dot(refracted, n) >= 0.0) refracted = refract(incoming.dir, n, eta);
+            vec3 refracted = refract(ray.dir, ns, eta);
+            if (dot(refracted, n) >= 0.0) refracted = refract(ray.dir, n, eta);
             if (all(equal(refracted, vec3(0.0)))) {
                 reflectWeight += vec3(transmitWeight);
 #ifdef WHITTED_RAY_TREE
@@ -355,8 +356,8 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
         }
         if (any(greaterThan(reflectWeight, vec3(0.0)))) {
             uint component = pending.depth == 0u ? kAovReflection : pending.component;
-            vec3 reflected = reflect(incoming.dir, ns);
-            if (dot(reflected, n) <= 0.0) reflected = reflect(incoming.dir, n);
+            vec3 reflected = reflect(ray.dir, ns);
+            if (dot(reflected, n) <= 0.0) reflected = reflect(ray.dir, n);
             if (glossy) reflected = glossyDirection(reflected, n, m.glossExponent, lobeSample);
             vec2 cone = vec2(coneWidth, pending.cone.y + 2.0 * curvature * coneWidth);
             stack[top++] = PendingRay(Ray(pOutside, reflected),
