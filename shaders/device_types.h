@@ -168,6 +168,18 @@ WHITTED_CONST uint kSpecDistribution = 4;
 WHITTED_CONST uint kDistributionLens = 1u;
 WHITTED_CONST uint kDistributionGloss = 2u;
 WHITTED_CONST uint kDistributionAreaLights = 4u;
+// The shading features a scene uses (kFeature* bits; unset: all of them), so that a scene without them compiles
+// none of their code (shaders/material.glsl): Fresnel (kMaterialFresnel), absorption, solid checkers, smooth mesh
+// triangles (kTriangleSmooth), spot and directional lights, inverse-square falloff.
+WHITTED_CONST uint kSpecFeatures = 5;
+WHITTED_CONST uint kFeatureFresnel = 1u;
+WHITTED_CONST uint kFeatureAbsorption = 2u;
+WHITTED_CONST uint kFeatureChecker = 4u;
+WHITTED_CONST uint kFeatureSmoothTriangles = 8u;
+WHITTED_CONST uint kFeatureSpotLights = 16u;
+WHITTED_CONST uint kFeatureDirectionalLights = 32u;
+WHITTED_CONST uint kFeatureFalloff = 64u;
+WHITTED_CONST uint kFeatureAll = 127u;
 
 // FrameParams.options bit flags.
 WHITTED_CONST uint kOptionWriteAovs = 1u;

@@ -83,9 +83,9 @@ bool shadowCrossing(uint i, Ray ray, float t, vec3 n, inout vec3 transmittance, 
     if (!opaque) {
         vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
         filterColour = kt * mix(vec3(1.0), cd, materials[k].kd) * materials[k].transmissionColor;
-        depth = (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
+        if (kHasAbsorption) depth = (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
         transmittance *= filterColour;
-        opticalDepth += depth;
+        if (kHasAbsorption) opticalDepth += depth;
     }
 #ifdef WHITTED_RAY_TREE
     rayTreeCrossing(i, k, t, filterColour, depth, opaque);
@@ -223,7 +223,8 @@ bool traceQuery(Ray ray, float tMax, bool shadow, out Hit hit, out vec3 visibili
     hit.primitive = 0xffffffffu;
     vec3 transmittance = vec3(1.0), opticalDepth = vec3(0.0);
     bool open = traverseScene(ray, tMax, shadow, hit, transmittance, opticalDepth);
-    visibility = open ? transmittance * exp(-max(opticalDepth, vec3(0.0))) : vec3(0.0);
+    if (kHasAbsorption) transmittance *= exp(-max(opticalDepth, vec3(0.0)));
+    visibility = open ? transmittance : vec3(0.0);
     return !shadow && hit.primitive != 0xffffffffu;
 }
 

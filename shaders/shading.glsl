@@ -143,15 +143,15 @@ bool nextShadowRay(inout LocalShading s, inout LightWalk w, Material m, vec3 p, 
             vec3 l;
             float dist;
             float attenuation = 1.0;
-            if (type == kLightDirectional) {
+            if (kHasDirectionalLights && type == kLightDirectional) {
                 l = -lights[i].direction;
                 dist = kRayInfinity;
             } else {
                 vec3 toLight = lights[i].position - p;
                 dist = length(toLight);
                 l = toLight / dist;
-                if (lights[i].falloff == kFalloffInverseSquare) attenuation = 1.0 / (dist * dist);
-                if (type == kLightSpot) {
+                if (kHasFalloff && lights[i].falloff == kFalloffInverseSquare) attenuation = 1.0 / (dist * dist);
+                if (kHasSpotLights && type == kLightSpot) {
                     float cosOuter = lights[i].cosOuter;
                     float cone = clamp((dot(-l, lights[i].direction) - cosOuter) / (lights[i].cosInner - cosOuter),
                                        0.0, 1.0);

@@ -111,7 +111,7 @@ float surfaceCurvature(Primitive prim, vec3 n, vec3 p) {
         case kShapeSphere: return sphereCurvature(prim.a.xyz, prim.a.w, n, p);
         case kShapeCylinder: return cylinderCurvature(prim.a.xyz, prim.b.xyz, prim.a.w, n, p);
         case kShapeTriangle: {
-            if (prim.extra0 != kTriangleSmooth) return 0.0;
+            if (!kHasSmoothTriangles || prim.extra0 != kTriangleSmooth) return 0.0;
             uvec3 packedNormals = uvec3(floatBitsToUint(prim.a.w), floatBitsToUint(prim.b.w), floatBitsToUint(prim.c.w));
             return triangleCurvature(prim.a.xyz, prim.b.xyz, prim.c.xyz, packedNormals, n);
         }

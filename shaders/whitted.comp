@@ -23,8 +23,6 @@ const uint kWriteIds = kOutputOptions & kOptionWriteIds;
 // Nonzero when the render splits reflection and transmission by depth (--aov-bounces).
 const uint kSplitBounces = kOutputOptions >> kOptionAovBouncesShift;
 
-// cone: the ray cone's width at the ray's origin and its spread angle
-// (texture LOD, shaders/texture.glsl).
 // PendingRay.component of a lens render's pinhole ray, traced for the auxiliary layers only.
 const uint kPinholeAovRay = 0xffu;
 struct PendingRay {
@@ -32,8 +30,29 @@ struct PendingRay {
     vec3 weight;
     uint depth;
     uint component;  // kAovReflection or kAovTransmission for secondary rays, kPinholeAovRay
+#ifndef WHITTED_NO_TEXTURES
+    // The ray cone's width at the ray's origin and its spread angle: it picks a texture's level
+    // (shaders/texture.glsl), and nothing else, so the build for scenes without textures carries none, and
+    // the cones' arithmetic compiles out with it.
     vec2 cone;
+#endif
 };
+
+PendingRay pendingRay(Ray ray, vec3 weight, uint depth, uint component, vec2 cone) {
+#ifdef WHITTED_NO_TEXTURES
+    return PendingRay(ray, weight, depth, component);
+#else
+    return PendingRay(ray, weight, depth, component, cone);
+#endif
+}
+
+vec2 pendingCone(PendingRay r) {
+#ifdef WHITTED_NO_TEXTURES
+    return vec2(0.0);
+#else
+    return r.cone;
+#endif
+}
 
 // Per-sample results for the output layers.
 struct SampleResult {
@@ -138,14 +157,14 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
             if (lens && !probing)
                 camera = thinLensRay(camera, params.right, params.up, params.apertureRadius, params.focusDistance,
                                      sampleDimension(nextSample, patternSize, pixelSeed, kDimLens));
-            stack[top++] = PendingRay(camera, vec3(1.0), 0u, 0u, pixelCone);
+            stack[top++] = pendingRay(camera, vec3(1.0), 0u, 0u, pixelCone);
             if (probing) {
                 probe = false;
             } else {
 #ifdef WHITTED_RAY_TREE
                 rayTreePush(top - 1, kRayCamera, camera, vec3(1.0), 0u);
 #endif
-                if (pinholeAovs) stack[top++] = PendingRay(pinhole, vec3(1.0), 0u, kPinholeAovRay, pixelCone);
+                if (pinholeAovs) stack[top++] = pendingRay(pinhole, vec3(1.0), 0u, kPinholeAovRay, pixelCone);
                 rayCount.x += 1u;
                 ++nextSample;
             }
@@ -209,15 +228,16 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
                 n = frontFace ? hit.normal : -hit.normal;
                 p = ray.origin + hit.t * ray.dir;
                 pOutside = offsetRay(p, n);
-                ns = shadingNormal(prim, p, n, -ray.dir);
+                ns = kHasSmoothTriangles ? shadingNormal(prim, p, n, -ray.dir) : n;
                 // Beer-Lambert: a ray that hits the inside of an object travelled
                 // hit.t through it, so all that comes back along it is attenuated.
-                if (!frontFace) pending.weight *= exp(-m.absorption * hit.t);
+                if (kHasAbsorption && !frontFace) pending.weight *= exp(-m.absorption * hit.t);
                 m.diffuse = pigment(m.diffuse, m.checkerColor, m.checkerSize, m.checkerOrigin, p);
                 // The cone's footprint here filters the diffuse texture, the
                 // emission texture and the normal map; a mapped normal is kept facing
                 // the viewer as shadingNormal() keeps an interpolated one.
-                coneWidth = pending.cone.x + pending.cone.y * hit.t;
+                vec2 cone = pendingCone(pending);
+                coneWidth = cone.x + cone.y * hit.t;
 #ifndef WHITTED_NO_TEXTURES  // the build for scenes without textures (host/render/device_policy.cpp)
                 uvec4 slots = uvec4(m.diffuseTexture, m.normalMap, m.emissionTexture, m.roughnessTexture);
                 if (any(notEqual(slots, uvec4(kNoTexture)))) {
@@ -312,7 +332,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
         // reflection), so F is the same both ways through a surface.
         float transmitWeight = kt;
         vec3 reflectWeight;
-        if ((m.flags & kMaterialFresnel) != 0u) {
+        if (kHasFresnel && (m.flags & kMaterialFresnel) != 0u) {
             float cosTheta = clamp(dot(-ray.dir, ns), 0.0, 1.0);
             float eta = frontFace ? 1.0 / ior : ior;
             if (kt > 0.0 && eta > 1.0) {
@@ -343,10 +363,10 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
 #endif
             } else if (transmitWeight > 0.0) {
                 uint component = pending.depth == 0u ? kAovTransmission : pending.component;
-                vec2 cone = vec2(coneWidth, eta * pending.cone.y - (1.0 - eta) * curvature * coneWidth);
+                vec2 cone = vec2(coneWidth, eta * pendingCone(pending).y - (1.0 - eta) * curvature * coneWidth);
                 refracted = normalize(refracted);
                 if (glossy) refracted = glossyDirection(refracted, -n, m.glossExponent, lobeSample);
-                stack[top++] = PendingRay(Ray(offsetRay(p, -n), refracted),
+                stack[top++] = pendingRay(Ray(offsetRay(p, -n), refracted),
                                           pending.weight * (transmitWeight * m.transmissionColor), childDepth,
                                           component, cone);
 #ifdef WHITTED_RAY_TREE
@@ -359,8 +379,8 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
             vec3 reflected = reflect(ray.dir, ns);
             if (dot(reflected, n) <= 0.0) reflected = reflect(ray.dir, n);
             if (glossy) reflected = glossyDirection(reflected, n, m.glossExponent, lobeSample);
-            vec2 cone = vec2(coneWidth, pending.cone.y + 2.0 * curvature * coneWidth);
-            stack[top++] = PendingRay(Ray(pOutside, reflected),
+            vec2 cone = vec2(coneWidth, pendingCone(pending).y + 2.0 * curvature * coneWidth);
+            stack[top++] = pendingRay(Ray(pOutside, reflected),
                                       pending.weight * reflectWeight, childDepth, component, cone);
 #ifdef WHITTED_RAY_TREE
             rayTreePush(top - 1, rayTreeReflectionKind(), stack[top - 1].ray, stack[top - 1].weight, childDepth);

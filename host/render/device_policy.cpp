@@ -118,17 +118,24 @@ ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, 
 }
 
 // The shapes in the BVH, any transparency, the shapes outside it (planes),
-// the auxiliary outputs, the distribution effects (a lens, gloss, area lights). What a scene lacks compiles out (on lavapipe every branch costs, taken or
-// not: shaders/intersect.glsl).
+// the auxiliary outputs, the distribution effects (a lens, gloss, area
+// lights), the shading features (Fresnel, absorption, checkers, smooth
+// triangles, spot and directional lights, falloff). What a scene lacks
+// compiles out (on lavapipe every branch costs, taken or not:
+// shaders/intersect.glsl).
 Specialization specializationFor(const GpuScene& scene) {
     // The auxiliary outputs and the number of depth-split layers (bits 8..15).
     constexpr uint32_t kOutputOptions = gpu::kOptionWriteAovs | gpu::kOptionWriteIds | 0xffu << gpu::kOptionAovBouncesShift;
-    Specialization constants = {0u, 0u, 0u, scene.params.options & kOutputOptions, 0u};
+    Specialization constants = {0u, 0u, 0u, scene.params.options & kOutputOptions, 0u, 0u};
     // The csg leaves after the listed primitives are intersected by
     // intersectCsg only.
     size_t listEnd = scene.params.firstListPrimitive + scene.params.listPrimitiveCount;
     for (size_t i = 0; i < listEnd; ++i)
         constants[i < scene.params.firstListPrimitive ? 0 : 2] |= 1u << scene.primitives[i].shape;
+    // Smooth triangles anywhere, csg leaves included.
+    for (const gpu::Primitive& p : scene.primitives)
+        if (p.shape == gpu::kShapeTriangle && p.extra0 == gpu::kTriangleSmooth)
+            constants[5] |= gpu::kFeatureSmoothTriangles;
     return withShading(constants, scene);
 }
 
@@ -141,6 +148,18 @@ Specialization withShading(Specialization constants, const GpuScene& scene) {
     for (const gpu::Light& l : scene.lights)
         if (l.type == gpu::kLightRect || l.radius > 0.0f) distribution |= gpu::kDistributionAreaLights;
     constants[4] = distribution;
+    uint32_t features = constants[5] & gpu::kFeatureSmoothTriangles;
+    for (const gpu::Material& m : scene.materials) {
+        if ((m.flags & gpu::kMaterialFresnel) != 0u) features |= gpu::kFeatureFresnel;
+        if (m.absorption != glm::vec3(0.0f)) features |= gpu::kFeatureAbsorption;
+        if (m.checkerSize > 0.0f) features |= gpu::kFeatureChecker;
+    }
+    for (const gpu::Light& l : scene.lights) {
+        if (l.type == gpu::kLightSpot) features |= gpu::kFeatureSpotLights;
+        if (l.type == gpu::kLightDirectional) features |= gpu::kFeatureDirectionalLights;
+        if (l.falloff == gpu::kFalloffInverseSquare) features |= gpu::kFeatureFalloff;
+    }
+    constants[5] = features;
     return constants;
 }
 
@@ -150,8 +169,9 @@ ComputePipeline createTracerPipeline(const VulkanContext& ctx, std::span<const u
                                                   {gpu::kSpecTransparency, sizeof(uint32_t), sizeof(uint32_t)},
                                                   {gpu::kSpecListShapeMask, 2 * sizeof(uint32_t), sizeof(uint32_t)},
                                                   {gpu::kSpecOutputOptions, 3 * sizeof(uint32_t), sizeof(uint32_t)},
-                                                  {gpu::kSpecDistribution, 4 * sizeof(uint32_t), sizeof(uint32_t)}};
-    vk::SpecializationInfo specialization{.mapEntryCount = 5, .pMapEntries = entries,
+                                                  {gpu::kSpecDistribution, 4 * sizeof(uint32_t), sizeof(uint32_t)},
+                                                  {gpu::kSpecFeatures, 5 * sizeof(uint32_t), sizeof(uint32_t)}};
+    vk::SpecializationInfo specialization{.mapEntryCount = 6, .pMapEntries = entries,
                                           .dataSize = sizeof(constants), .pData = constants.data()};
     std::vector<DescriptorBinding> bindings(std::begin(kTracerBindings), std::end(kTracerBindings));
     if (trace == TracePath::RayQuery) bindings.push_back({gpu::kBindingTlas, vk::DescriptorType::eAccelerationStructureKHR});

@@ -75,12 +75,15 @@ ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, 
 // gpu::kSpecOutputOptions (the auxiliary outputs its settings ask for: a
 // render without them compiles none of their code, the ids' probe ray
 // included), gpu::kSpecDistribution (a lens, gloss, area lights: a scene
-// without them compiles none of their sampling).
-using Specialization = std::array<uint32_t, 5>;
+// without them compiles none of their sampling), gpu::kSpecFeatures (Fresnel,
+// absorption, checkers, smooth triangles, spot and directional lights,
+// falloff: likewise).
+using Specialization = std::array<uint32_t, 6>;
 Specialization specializationFor(const GpuScene& scene);
 // `constants` with the ones that follow the scene's materials, lights and
-// camera (transparency, the distribution effects) taken from `scene`: what
-// an edit of those changes.
+// camera (transparency, the distribution effects, the features but smooth
+// triangles) taken from `scene`: what an edit of those changes. The
+// primitives may be gone from `scene` (uploaded): what depends on them stays.
 Specialization withShading(Specialization constants, const GpuScene& scene);
 
 // A pipeline whose descriptor set layout is the tracer's along `trace`

@@ -309,6 +309,51 @@ def test_reused_renderer_follows_lens_gloss_and_area_lights(renderer):
     assert np.array_equal(images[0], images[-1])
 
 
+# The same for the shading features (device_types.h kSpecFeatures): Fresnel, absorption, a checker, spot and
+# directional lights with falloff, and smooth mesh triangles come in through a reused renderer's edit paths and go
+# again, each render equal to a fresh renderer's, each step changing the image.
+def test_reused_renderer_follows_shading_features(renderer):
+    scene = whitted.load(ROOT / "scenes" / "one_mirror.xml")
+    mirror = next(o for o in scene.objects if o.reflection > 0)
+    floor = scene.objects[0]
+
+    def check():
+        reused = renderer.render(scene, aovs="none", **SIZE).image
+        assert np.array_equal(reused, whitted.Renderer().render(scene, aovs="none", **SIZE).image)
+        return reused
+
+    images = [check()]
+    mirror.fresnel = True
+    images.append(check())
+    glass = scene.add_sphere((0.2, 0.5, -2.2), 0.45, material=whitted.Material(
+        transmission=0.8, ior=1.5, specular=0.2, reflection=0.1, absorption=(0.2, 1.0, 2.0)))
+    images.append(check())
+    floor.checker_size = 0.4
+    floor.checker_color = (0.1, 0.1, 0.1)
+    images.append(check())
+    spot = scene.add_light(position=(0.5, 3, -1), type="spot", direction=(0, -1, -0.3), intensity=6,
+                           falloff="inverse_square", inner_angle=10, outer_angle=30)
+    sun = scene.add_light(type="directional", direction=(-0.3, -1, -0.5), color=(0.3, 0.3, 0.25))
+    images.append(check())
+    rim = np.array([[np.cos(a), 0.0, np.sin(a)] for a in np.linspace(0, 2 * np.pi, 12, endpoint=False)]) * 0.4
+    vertices = np.vstack([[0.0, 0.4, 0.0], rim]) + [0.8, 0.2, -2.6]
+    faces = np.array([[0, 1 + (i + 1) % 12, 1 + i] for i in range(12)], dtype=np.int32)
+    normals = vertices - [0.8, -0.3, -2.6]
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    flat = scene.add_mesh(vertices, faces, name="flat")
+    images.append(check())
+    scene.remove(flat)
+    smooth = scene.add_mesh(vertices, faces, normals=normals, name="smooth")
+    images.append(check())
+    for handle in (smooth, sun, spot, glass):
+        scene.remove(handle)
+    floor.checker_size = 0
+    mirror.fresnel = False
+    images.append(check())
+    assert all(not np.array_equal(a, b) for a, b in zip(images[:-2], images[1:-1]))
+    assert np.array_equal(images[0], images[-1])
+
+
 def rss_mib():
     with open("/proc/self/status") as f:
         for line in f:
