@@ -83,9 +83,11 @@ bool shadowCrossing(uint i, Ray ray, float t, vec3 n, inout vec3 transmittance, 
     if (!opaque) {
         vec3 cd = crossingColour(i, k, ray.origin + t * ray.dir, n);
         filterColour = kt * mix(vec3(1.0), cd, materials[k].kd) * materials[k].transmissionColor;
-        if (kHasAbsorption) depth = (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
         transmittance *= filterColour;
-        if (kHasAbsorption) opticalDepth += depth;
+        if (kHasAbsorption) {
+            depth = (dot(ray.dir, n) > 0.0 ? t : -t) * materials[k].absorption;
+            opticalDepth += depth;
+        }
     }
 #ifdef WHITTED_RAY_TREE
     rayTreeCrossing(i, k, t, filterColour, depth, opaque);

@@ -14,9 +14,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Runs the executable with `args` in folder `cwd`.
-CommandRun runWhitted(const std::string& args, const fs::path& cwd = fs::current_path()) {
-    return runCommand("'" WHITTED_EXECUTABLE "' " + args, cwd);
+// Runs the executable with `args` in folder `cwd`, after shell variable
+// assignments `environment` ("NAME=value ", or nothing).
+CommandRun runWhitted(const std::string& args, const fs::path& cwd = fs::current_path(),
+                      const std::string& environment = "") {
+    return runCommand(environment + "'" WHITTED_EXECUTABLE "' " + args, cwd);
 }
 
 // A fresh, empty folder for one test.
@@ -201,10 +203,10 @@ TEST(Cli, TallImageStreamsWithBoundedMemory) {
 #endif
     auto peakFor = [&](int height) {
         std::string name = "out" + std::to_string(height);
-        CommandRun r = runCommand(environment + "'" WHITTED_EXECUTABLE "' render " + scene("three_diffuse_spheres.xml") +
-                                      " -o " + name + ".exr --width 256 --height " + std::to_string(height) +
+        CommandRun r = runWhitted("render " + scene("three_diffuse_spheres.xml") + " -o " + name +
+                                      ".exr --width 256 --height " + std::to_string(height) +
                                       " --aa uniform --spp 1 --aov all",
-                                  dir);
+                                  dir, environment);
         EXPECT_EQ(r.status, 0) << r.output;
         std::string record = readText(dir / (name + ".json"));
         size_t at = record.find("\"peak_rss\": ");

@@ -128,14 +128,14 @@ Specialization specializationFor(const GpuScene& scene) {
     constexpr uint32_t kOutputOptions = gpu::kOptionWriteAovs | gpu::kOptionWriteIds | 0xffu << gpu::kOptionAovBouncesShift;
     Specialization constants = {0u, 0u, 0u, scene.params.options & kOutputOptions, 0u, 0u};
     // The csg leaves after the listed primitives are intersected by
-    // intersectCsg only.
+    // intersectCsg only; smooth triangles count anywhere.
     size_t listEnd = scene.params.firstListPrimitive + scene.params.listPrimitiveCount;
-    for (size_t i = 0; i < listEnd; ++i)
-        constants[i < scene.params.firstListPrimitive ? 0 : 2] |= 1u << scene.primitives[i].shape;
-    // Smooth triangles anywhere, csg leaves included.
-    for (const gpu::Primitive& p : scene.primitives)
+    for (size_t i = 0; i < scene.primitives.size(); ++i) {
+        const gpu::Primitive& p = scene.primitives[i];
+        if (i < listEnd) constants[i < scene.params.firstListPrimitive ? 0 : 2] |= 1u << p.shape;
         if (p.shape == gpu::kShapeTriangle && p.extra0 == gpu::kTriangleSmooth)
             constants[5] |= gpu::kFeatureSmoothTriangles;
+    }
     return withShading(constants, scene);
 }
 
