@@ -155,10 +155,10 @@ TEST(RayTree, WalkIsDepthFirstInTracedOrder) {
     std::string order;
     tree.walk(
         [&](uint32_t i, int level) {
-            order += "+" + std::to_string(i) + "@" + std::to_string(level);
+            order.append("+").append(std::to_string(i)).append("@").append(std::to_string(level));
             return i != 2;
         },
-        [&](uint32_t i) { order += "-" + std::to_string(i); });
+        [&](uint32_t i) { order.append("-").append(std::to_string(i)); });
     EXPECT_EQ(order, "+0@0+1@1+3@2+5@3-5-3-1+2@1-0");
 
     tree.rays[1].firstShadowRay = 1;
@@ -499,7 +499,7 @@ TEST(RayTree, NoRayDeeperThanMaxDepth) {
 TEST(RayTree, TraceCommandPrintsTheTreeAndItsErrorsExitTwo) {
     fs::path dir = freshOutputDir("ray_tree", "cli");
     std::string exe = "'" WHITTED_EXECUTABLE "' trace ";
-    std::string room = "'" + (sourceDir() / "scenes" / "room.xml").string() + "'";
+    std::string room = "'" + (sourceDir() / "scenes" / "room.xml").string().append("'");
     CommandRun ok = runCommand(exe + room + " --pixel 40,30 --width 80 --height 60", dir);
     ASSERT_EQ(ok.status, 0) << ok.output;
     EXPECT_EQ(ok.output.rfind("pixel 40,30 of 80x60, max depth 6: colour (", 0), 0u) << ok.output;

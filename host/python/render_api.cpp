@@ -2,8 +2,9 @@
 // its Vulkan context, pipeline and uploaded scene between renders and
 // re-uploads only what the scene's edit counters say changed (a camera edit
 // rewrites the uniform block; a material edit the materials, no BVH).
-// Rendering releases the GIL; between bands it takes it back to call
-// progress and PyErr_CheckSignals, so Ctrl+C stops a render cleanly.
+// Rendering releases the GIL; after every submission to the device it takes
+// it back to call progress and PyErr_CheckSignals, so Ctrl+C stops a render
+// cleanly.
 #include "io/atomic_file.h"
 #include "io/image_io.h"
 #include "output/aov_output.h"
@@ -228,6 +229,9 @@ public:
                       py::object progress, py::object camerasArg, py::object seedArg) {
         // Every option is checked before anything reaches the device.
         auto bad = [](const std::string& what) { throw py::value_error(what); };
+        if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+            throw py::type_error("progress: must be callable (progress(fraction)) or None, got a " +
+                                 py::str(py::type::of(progress).attr("__name__")).cast<std::string>());
         const Scene& scene = *handle->scene;
         bool batch = !camerasArg.is_none();
         std::vector<Camera> cameras;
@@ -322,10 +326,13 @@ public:
         Versions versions = handle->versions;
         uint64_t id = handle->id;
         bool hasProgress = !progress.is_none();
+        // Called after every submission to the queue: Ctrl+C (a signal,
+        // or one raised by progress itself) stops the render there.
         ProgressCallback between = [&](double fraction) {
             py::gil_scoped_acquire gil;
             if (PyErr_CheckSignals() != 0) throw py::error_already_set();
             if (hasProgress) progress(fraction);
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         };
         std::vector<ResultRef> results;
         {
@@ -632,7 +639,8 @@ void addRenderApi(py::module_& m) {
              py::arg("aov_bounces") = 0, py::arg("region") = py::none(), py::arg("trace") = "auto",
              py::arg("progress") = py::none(), py::arg("cameras") = py::none(), py::arg("seed") = 0,
              "Renders the scene (the options of `whitted render`); returns a RenderResult. Releases the GIL; "
-             "progress(fraction) is called between bands, where Ctrl+C stops the render. cameras=[Camera, ...] "
+             "progress(fraction) is called after every submission to the device, where Ctrl+C stops the render. "
+             "cameras=[Camera, ...] "
              "(e.g. scene.camera.copy() after edits): one render per camera, the scene uploaded once, only the "
              "camera block between them; returns a list of RenderResult (width/height default to the cameras' "
              "size, which must then agree). seed (0..2^32-1, default 0: today's patterns): the sample positions within "

@@ -3,6 +3,7 @@
 #include "render/adaptive.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <span>
 #include <stdexcept>
@@ -14,16 +15,65 @@ namespace {
 
 constexpr uint32_t kTileSize = 128;
 
-// Dispatches recorded into one command buffer and submission.
+// Dispatches recorded into one command buffer and submission, at most.
 constexpr size_t kDispatchesPerSubmit = 4;
+// A submission that runs longer than this halves the dispatches of the next
+// ones, so that progress (and with it Ctrl+C in Python) comes several times
+// a second even where one sample costs much.
+constexpr std::chrono::milliseconds kSubmitTarget{250};
+
+// The fraction of this render's bands done, reported after every
+// submission (not only after every band), so that a progress bar moves and
+// a callback that stops the render (Python's Ctrl+C) runs within one
+// submission's time. A band is worked through in stages whose camera
+// samples are known when they start: the uniform band is one stage; the
+// adaptive band a first pass and one stage per refinement level.
+class Progress {
+public:
+    Progress(const ProgressCallback& callback, uint32_t bands) : callback_(callback), bands_(std::max(bands, 1u)) {}
+
+    // The next `samples` camera samples take the band from `from` to `to`.
+    void stage(double from, double to, uint64_t samples) {
+        from_ = from;
+        to_ = to;
+        stageSamples_ = std::max<uint64_t>(samples, 1);
+        stageDone_ = 0;
+    }
+
+    // After a submission that traced `samples` camera samples. The band's
+    // end is reported by bandDone, after its pixels reached the sink.
+    void submitted(uint64_t samples) {
+        if (samples == 0) return;
+        stageDone_ += samples;
+        double inBand = from_ + (to_ - from_) * std::min(1.0, double(stageDone_) / double(stageSamples_));
+        if (inBand < 1.0) report(inBand);
+    }
+
+    void bandDone() {
+        ++bandsDone_;
+        report(0.0);
+    }
+
+private:
+    void report(double inBand) const {
+        if (callback_) callback_(std::min(1.0, (double(bandsDone_) + inBand) / double(bands_)));
+    }
+
+    const ProgressCallback& callback_;
+    uint32_t bands_;
+    uint32_t bandsDone_ = 0;
+    double from_ = 0.0, to_ = 1.0;
+    uint64_t stageSamples_ = 1, stageDone_ = 0;
+};
 
 // Dispatches go to the queue in batches of kDispatchesPerSubmit, each after
 // a barrier (later dispatches may accumulate into the same pixels); the ray
-// counters are read, and the camera rays checked, once per batch.
+// counters are read, and the camera rays checked, once per batch, and the
+// progress is reported after it.
 class Batch {
 public:
-    Batch(const BandResources& parts, RenderResult& result)
-        : parts_(parts), result_(result),
+    Batch(const BandResources& parts, RenderResult& result, Progress& progress)
+        : parts_(parts), result_(result), progress_(progress),
           commandBuffers_(parts.ctx.device, {.commandPool = *parts.ctx.commandPool,
                                              .level = vk::CommandBufferLevel::ePrimary, .commandBufferCount = 1}),
           fence_(parts.ctx.device, vk::FenceCreateInfo{}) {}
@@ -39,7 +89,7 @@ public:
         }
         recordDispatch(cmd, parts_.pipeline, params, groupsX, groupsY);
         expected_ += cameraSamples;
-        if (++recorded_ == kDispatchesPerSubmit) flush();
+        if (++recorded_ == dispatchesPerSubmit_) flush();
     }
 
     // Submits what is recorded, with `copyBand` bytes of the output buffer
@@ -61,10 +111,13 @@ public:
                             vk::PipelineStageFlagBits::eHost, {}, toHost, nullptr, nullptr);
         cmd.end();
         vk::CommandBuffer raw = *cmd;
+        auto submitted = std::chrono::steady_clock::now();
         parts_.ctx.queue.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &raw}, *fence_);
         vk::Result waited = parts_.ctx.device.waitForFences(*fence_, VK_TRUE, UINT64_MAX);
         if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
         parts_.ctx.device.resetFences(*fence_);
+        if (std::chrono::steady_clock::now() - submitted > kSubmitTarget && recorded_ > 1)
+            dispatchesPerSubmit_ = std::max<size_t>(1, recorded_ / 2);
 
         // One camera ray per sample: fewer means the driver cut a run short.
         const auto* counters = static_cast<const gpu::RayCounters*>(parts_.counters.mapped);
@@ -73,8 +126,10 @@ public:
         result_.rays.shadow += counters->shadow;
         result_.rays.secondary += counters->secondary;
         result_.samplesTaken += expected_;
+        uint64_t traced = expected_;
         recorded_ = 0;
         expected_ = 0;
+        progress_.submitted(traced);  // last: it may throw to stop the render
     }
 
 private:
@@ -87,9 +142,11 @@ private:
 
     const BandResources& parts_;
     RenderResult& result_;
+    Progress& progress_;
     vk::raii::CommandBuffers commandBuffers_;
     vk::raii::Fence fence_;
     size_t recorded_ = 0;
+    size_t dispatchesPerSubmit_ = kDispatchesPerSubmit;
     uint64_t expected_ = 0;
 };
 
@@ -111,9 +168,10 @@ uint32_t groupsFor(uint32_t n) { return (n + gpu::kWorkgroupSize - 1) / gpu::kWo
 // kMaxSamplesPerInvocation samples a pixel; the first replaces the band
 // buffer's old sums. Sample indices are global, so the split changes only
 // the grouping, never which samples are traced or the order they are added.
-void renderBandUniform(const BandResources& parts, Batch& batch, const PixelRect& band) {
+void renderBandUniform(const BandResources& parts, Batch& batch, Progress& progress, const PixelRect& band) {
     const RenderSettings& settings = parts.settings;
     uint32_t spp = uint32_t(settings.samplesPerPixel);
+    progress.stage(0.0, 1.0, uint64_t(band.width) * band.height * spp);
     forEachTile(band, [&](const PixelRect& tile) {
         uint64_t pixels = uint64_t(tile.width) * tile.height;
         uint32_t chunk = uint32_t(std::clamp<uint64_t>(std::max<uint64_t>(settings.samplesPerDispatch, 1) / pixels, 1, spp));
@@ -136,7 +194,7 @@ void renderBandUniform(const BandResources& parts, Batch& batch, const PixelRect
 // Adaptive anti-aliasing (render/adaptive.h): the centre sample of every
 // pixel of the band and of its one-pixel border (the border only feeds the
 // guide), then refinement passes over the pixels that need them.
-void renderBandAdaptive(const BandResources& parts, Batch& batch, const PixelRect& band) {
+void renderBandAdaptive(const BandResources& parts, Batch& batch, Progress& progress, const PixelRect& band) {
     const RenderSettings& settings = parts.settings;
     // Level k's pixels are decided on the band grown by L - k + 1 pixels
     // (L levels), from level k - 1's samples one pixel further out: each
@@ -145,6 +203,8 @@ void renderBandAdaptive(const BandResources& parts, Batch& batch, const PixelRec
     uint32_t border = uint32_t(levels.size());
     uint32_t width = uint32_t(parts.imageWidth), height = uint32_t(parts.imageHeight);
     PixelRect guideRect = grow(band, border, width, height);
+    double stages = double(levels.size() + 1);
+    progress.stage(0.0, 1.0 / stages, uint64_t(guideRect.width) * guideRect.height);
     forEachTile(guideRect, [&](const PixelRect& tile) {
         gpu::TileParams params{.tileOrigin = originOf(tile),
                                .tileSize = sizeOf(tile),
@@ -166,6 +226,7 @@ void renderBandAdaptive(const BandResources& parts, Batch& batch, const PixelRec
 
     for (size_t level = 0; level < levels.size() && !list.empty(); ++level) {
         uint32_t n = levels[level];
+        progress.stage(double(level + 1) / stages, double(level + 2) / stages, uint64_t(list.size()) * n);
         std::memcpy(parts.pixelList.mapped, list.data(), list.size() * sizeof(uint32_t));
         // Slices of the list small enough for samplesPerDispatch.
         uint32_t chunk = std::min(n, kMaxSamplesPerInvocation);
@@ -217,21 +278,22 @@ RenderResult renderBands(const BandResources& parts, BandSink& sink, const Progr
     result.samplesPerPixel = parts.settings.samplesPerPixel;
     result.hasAuxiliary = parts.settings.auxiliary;
     result.layout = layout;
-    Batch batch(parts, result);
 
     const PixelRegion& region = layout.region;
     uint32_t bandRows = parts.bandRows, layerCount = layout.layerCount;
     std::vector<float> counts;
     uint32_t bandCount = (uint32_t(region.height()) + bandRows - 1) / bandRows;
     uint32_t mine = firstBand < bandCount ? (bandCount - firstBand + bandStep - 1) / bandStep : 0;
+    Progress done(progress, mine);
+    Batch batch(parts, result, done);
     for (uint32_t index = firstBand; index < bandCount; index += bandStep) {
         int y = region.y0 + int(index * bandRows);
         PixelRect band{uint32_t(region.x0), uint32_t(y), uint32_t(region.width()),
                        uint32_t(std::min<int>(int(bandRows), region.y1 - y))};
         if (parts.settings.antiAliasing == AntiAliasing::Adaptive)
-            renderBandAdaptive(parts, batch, band);
+            renderBandAdaptive(parts, batch, done, band);
         else
-            renderBandUniform(parts, batch, band);
+            renderBandUniform(parts, batch, done, band);
         size_t pixels = size_t(band.width) * band.height;
         batch.flush(vk::DeviceSize(layerCount) * pixels * sizeof(glm::vec4));
 
@@ -251,7 +313,7 @@ RenderResult renderBands(const BandResources& parts, BandSink& sink, const Progr
         sink.writeBand({.index = int(index), .y0 = y, .rows = int(band.height), .width = int(band.width), .layers = means,
                         .sampleCounts = counts});
         ++result.bands;
-        if (progress) progress(double(result.bands) / double(mine));
+        done.bandDone();
     }
     return result;
 }

@@ -56,9 +56,10 @@ struct BandResources {
 };
 
 // Renders bands firstBand, firstBand + bandStep, ... of the region into
-// `sink`, top to bottom; progress counts these bands. The result has the
-// image's size and layout, the samples and rays counted and the bands
-// written; no pixels and no timings.
+// `sink`, top to bottom; progress gets the fraction of these bands done
+// after every submission to the queue (it may throw to stop the render
+// there). The result has the image's size and layout, the samples and rays
+// counted and the bands written; no pixels and no timings.
 RenderResult renderBands(const BandResources& parts, BandSink& sink, const ProgressCallback& progress,
                          uint32_t firstBand, uint32_t bandStep);
 

@@ -391,6 +391,8 @@ def test_two_renderers_on_two_threads():
 
 
 LONG = dict(width=1024, height=1024, aovs="all", aa="uniform", spp=1)  # several bands
+# One band of many submissions: 6 tiles x 256 dispatches of 4 samples a pixel.
+ONE_BAND = dict(width=320, height=240, aa="uniform", spp=1024)
 
 
 def test_progress_between_bands(renderer):
@@ -399,18 +401,36 @@ def test_progress_between_bands(renderer):
     assert len(fractions) > 1 and fractions == sorted(fractions) and fractions[-1] == 1.0
 
 
+def test_progress_within_one_band(renderer):
+    fractions = []
+    result = renderer.render(whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml"), progress=fractions.append,
+                             **ONE_BAND)
+    assert result.record["sampling"]["bands"] == 1
+    # After every submission of at most 4 dispatches: 384 calls or more
+    # (fewer dispatches a submission where they run long), the last at 1.0.
+    assert len(fractions) >= 6 * 256 // 4 and fractions == sorted(fractions) and fractions[-1] == 1.0
+    assert fractions[0] < 0.01 and fractions[-2] > 0.99
+
+
+def test_progress_must_be_callable(renderer):
+    scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
+    with pytest.raises(TypeError, match=r"progress: must be callable .* got a list"):
+        renderer.render(scene, progress=[], **SIZE)
+
+
 def test_keyboard_interrupt_leaves_renderer_usable(renderer):
     scene = whitted.load(ROOT / "scenes" / "three_diffuse_spheres.xml")
     seen = []
 
     def ctrl_c(fraction):  # Ctrl+C arrives while the render runs
         seen.append(fraction)
-        if len(seen) == 1:
-            _thread.interrupt_main()
+        _thread.interrupt_main()
 
+    # The signal is checked right after progress returns, so the render stops
+    # at the first call, whenever the interpreter would handle it itself.
     with pytest.raises(KeyboardInterrupt):
-        renderer.render(scene, progress=ctrl_c, **LONG)
-    assert seen[-1] < 1.0  # stopped between bands, before the end
+        renderer.render(scene, progress=ctrl_c, **ONE_BAND)
+    assert len(seen) == 1 and seen[0] < 0.01
     again = renderer.render(scene, aovs=("depth",), **SIZE)
     same_result(again, whitted.Renderer().render(scene.copy(), aovs=("depth",), **SIZE))
 
