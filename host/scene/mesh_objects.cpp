@@ -353,12 +353,11 @@ ReadModelFile readModelFile(const Diagnostics& diag, const XMLElement* e, const 
                                                           : MeshFileMaterials::Ignore;
     try {
         if (ref.part.empty()) {
-            out.data = std::make_shared<const MeshFileData>(whitted::readMeshFile(ref.path, mode, out.tangents));
+            out.data = std::make_shared<const MeshFileData>(readMeshFile(ref.path, mode, out.tangents));
         } else {  // one file, many parts: read once
             std::shared_ptr<const MeshFileData>& cached =
                 files.meshes[{std::filesystem::absolute(ref.path).lexically_normal(), mode, out.tangents}];
-            if (!cached)
-                cached = std::make_shared<const MeshFileData>(whitted::readMeshFile(ref.path, mode, out.tangents));
+            if (!cached) cached = std::make_shared<const MeshFileData>(readMeshFile(ref.path, mode, out.tangents));
             out.data = cached;
         }
     } catch (const MeshFileError& error) {
@@ -457,8 +456,8 @@ void keepFileMaterials(const ReadModelFile& read, FileMaterials& fileMaterials) 
 // scene. Degenerate triangles are dropped with one warning. With
 // part="material NAME" only the triangles of that material of the file
 // (a glTF file's part="mesh M primitive P": readGltfPart).
-Mesh readMeshFile(const Diagnostics& diag, const XMLElement* e, const Placement& placement,
-                  const std::filesystem::path& sceneFolder, FileMaterials& fileMaterials, ModelFiles& files) {
+Mesh meshFromFileElement(const Diagnostics& diag, const XMLElement* e, const Placement& placement,
+                         const std::filesystem::path& sceneFolder, FileMaterials& fileMaterials, ModelFiles& files) {
     const FileReference ref = readFileReference(diag, e, sceneFolder);
     if (!ref.part.empty() && isGltfFile(ref.path))
         return readGltfPart(diag, e, placement, ref.path, ref.part, ref.name, fileMaterials, files);
@@ -508,7 +507,7 @@ Mesh readMeshObject(const Diagnostics& diag, ElementReader& object, ElementReade
         diag.fail(object.element(), "<object> is missing <polygons> or <file> (required for type mesh)");
     Placement placement = readPlacement(diag, properties, position);
     return polygons ? readMesh(diag, polygons, placement)
-                    : readMeshFile(diag, file, placement, sceneFolder, fileMaterials, modelFiles);
+                    : meshFromFileElement(diag, file, placement, sceneFolder, fileMaterials, modelFiles);
 }
 
 std::vector<Object> splitByFileMaterial(Object whole, const FileMaterials& fileMaterials) {
