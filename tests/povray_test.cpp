@@ -46,6 +46,7 @@
 // NAME.diff.png (|difference| x 8) and the .pov file with POV-Ray's log.
 // WHITTED_POVRAY_KEEP=1 writes the images for passing scenes too.
 #include "io/image_io.h"
+#include "io/srgb.h"
 #include "scene/povray_export.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
@@ -144,11 +145,6 @@ Image mirrored(const Image& in) {
     return out;
 }
 
-float srgb(float v) {
-    v = std::clamp(v, 0.0f, 1.0f);
-    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
-
 struct Agreement {
     double psnr;               // dB, on sRGB-encoded values in [0, 1]
     double meanLevels;         // mean |difference| in 8-bit levels
@@ -159,7 +155,7 @@ struct Agreement {
 Agreement compare(const Image& a, const Image& b) {
     double squared = 0, absolute = 0;
     for (size_t i = 0; i < a.rgb.size(); ++i) {
-        double d = double(srgb(a.rgb[i])) - double(srgb(b.rgb[i]));
+        double d = double(linearToSrgb(a.rgb[i])) - double(linearToSrgb(b.rgb[i]));
         squared += d * d;
         absolute += std::abs(d);
     }
@@ -172,7 +168,8 @@ Agreement compare(const Image& a, const Image& b) {
             double sum = 0;
             for (int y = wy; y < wy + kWindow; ++y)
                 for (int x = wx; x < wx + kWindow; ++x)
-                    for (int c = 0; c < 3; ++c) sum += std::abs(double(srgb(a.at(x, y, c))) - double(srgb(b.at(x, y, c))));
+                    for (int c = 0; c < 3; ++c)
+                        sum += std::abs(double(linearToSrgb(a.at(x, y, c))) - double(linearToSrgb(b.at(x, y, c))));
             worstWindow = std::max(worstWindow, sum / (kWindow * kWindow * 3) * 255.0);
         }
     return {mse > 0 ? 10.0 * std::log10(1.0 / mse) : 99.0, absolute / n * 255.0, worstWindow};
@@ -185,7 +182,8 @@ void writePng(const fs::path& path, const Image& img) {
 // |difference| of the sRGB values, times 8, as a linear 8-bit image.
 void writeDiff(const fs::path& path, const Image& a, const Image& b) {
     std::vector<float> diff(a.rgb.size());
-    for (size_t i = 0; i < diff.size(); ++i) diff[i] = std::min(1.0f, 8.0f * std::abs(srgb(a.rgb[i]) - srgb(b.rgb[i])));
+    for (size_t i = 0; i < diff.size(); ++i)
+        diff[i] = std::min(1.0f, 8.0f * std::abs(linearToSrgb(a.rgb[i]) - linearToSrgb(b.rgb[i])));
     writeImage(path, a.width, a.height, 3, diff, PixelEncoding::Linear8);
 }
 
