@@ -3,7 +3,7 @@
 // Every opaque scene in scenes/ and every scene in tests/povray_scenes/ is
 // rendered twice: by our renderer in-process (160x120, 16 stratified samples
 // per pixel, max depth 6) and by `povray` from the SDL that
-// host/scene/povray_export.h writes (640x480 without antialiasing, box-filtered
+// tools/povray/povray_export.h writes (640x480 without antialiasing, box-filtered
 // 4x4 down to 160x120: 16 samples per pixel on a regular grid; max_trace_level
 // 7 = the camera ray + 6 bounces). POV-Ray writes OpenEXR (+FE): linear float
 // values, neither clamped nor quantised, so both images are averaged in
@@ -47,7 +47,7 @@
 // WHITTED_POVRAY_KEEP=1 writes the images for passing scenes too.
 #include "io/image_io.h"
 #include "io/srgb.h"
-#include "scene/povray_export.h"
+#include "povray/povray_export.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
 
@@ -87,7 +87,7 @@ constexpr int kMaxDepth = 6;
 //   csg                     50.6 dB  0.11  1.4
 //   light_types             54.7 dB  0.09  1.0  (spot, directional,
 //                           inverse-square points; the spot's s^2 ramp as
-//                           16 POV-Ray spotlights, host/scene/povray_export.h)
+//                           16 POV-Ray spotlights, tools/povray/povray_export.h)
 //   area_sphere_light       50.8 dB  0.24  2.8  (radius 0.6, 64 shadow rays
 //                           per sample; area_light 8 x 8 circular orient)
 //   area_rect_light         48.1 dB  0.35  4.5  (two-sided 2 x 0.8; area_light
@@ -557,7 +557,7 @@ TEST(PovrayCrossCheck, MetricRejectsCsgMistakes) {
     }
 }
 
-// Depth of field: our thin lens against POV-Ray's focal_blur (host/scene/povray_export.h: aperture 4R,
+// Depth of field: our thin lens against POV-Ray's focal_blur (tools/povray/povray_export.h: aperture 4R,
 // focal_point on the axis at the focus distance). A checkered floor and spheres before, at and behind the
 // plane of focus (the middle sphere, 5 away). Both are run until the lens noise is small: 256 samples per
 // pixel here, 64 focal-blur rays per POV-Ray pixel at 4x4 per pixel (1024). Smaller than the other scenes
