@@ -3,7 +3,7 @@
 // Every opaque scene in scenes/ and every scene in tests/povray_scenes/ is
 // rendered twice: by our renderer in-process (160x120, 16 stratified samples
 // per pixel, max depth 6) and by `povray` from the SDL that
-// host/scene/povray_export.h writes (640x480 without antialiasing, box-filtered
+// tools/povray/povray_export.h writes (640x480 without antialiasing, box-filtered
 // 4x4 down to 160x120: 16 samples per pixel on a regular grid; max_trace_level
 // 7 = the camera ray + 6 bounces). POV-Ray writes OpenEXR (+FE): linear float
 // values, neither clamped nor quantised, so both images are averaged in
@@ -46,7 +46,8 @@
 // NAME.diff.png (|difference| x 8) and the .pov file with POV-Ray's log.
 // WHITTED_POVRAY_KEEP=1 writes the images for passing scenes too.
 #include "io/image_io.h"
-#include "scene/povray_export.h"
+#include "io/srgb.h"
+#include "povray/povray_export.h"
 #include "scene/scene_loader.h"
 #include "test_support.h"
 
@@ -86,7 +87,7 @@ constexpr int kMaxDepth = 6;
 //   csg                     50.6 dB  0.11  1.4
 //   light_types             54.7 dB  0.09  1.0  (spot, directional,
 //                           inverse-square points; the spot's s^2 ramp as
-//                           16 POV-Ray spotlights, host/scene/povray_export.h)
+//                           16 POV-Ray spotlights, tools/povray/povray_export.h)
 //   area_sphere_light       50.8 dB  0.24  2.8  (radius 0.6, 64 shadow rays
 //                           per sample; area_light 8 x 8 circular orient)
 //   area_rect_light         48.1 dB  0.35  4.5  (two-sided 2 x 0.8; area_light
@@ -144,11 +145,6 @@ Image mirrored(const Image& in) {
     return out;
 }
 
-float srgb(float v) {
-    v = std::clamp(v, 0.0f, 1.0f);
-    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
-
 struct Agreement {
     double psnr;               // dB, on sRGB-encoded values in [0, 1]
     double meanLevels;         // mean |difference| in 8-bit levels
@@ -159,7 +155,7 @@ struct Agreement {
 Agreement compare(const Image& a, const Image& b) {
     double squared = 0, absolute = 0;
     for (size_t i = 0; i < a.rgb.size(); ++i) {
-        double d = double(srgb(a.rgb[i])) - double(srgb(b.rgb[i]));
+        double d = double(linearToSrgb(a.rgb[i])) - double(linearToSrgb(b.rgb[i]));
         squared += d * d;
         absolute += std::abs(d);
     }
@@ -172,7 +168,8 @@ Agreement compare(const Image& a, const Image& b) {
             double sum = 0;
             for (int y = wy; y < wy + kWindow; ++y)
                 for (int x = wx; x < wx + kWindow; ++x)
-                    for (int c = 0; c < 3; ++c) sum += std::abs(double(srgb(a.at(x, y, c))) - double(srgb(b.at(x, y, c))));
+                    for (int c = 0; c < 3; ++c)
+                        sum += std::abs(double(linearToSrgb(a.at(x, y, c))) - double(linearToSrgb(b.at(x, y, c))));
             worstWindow = std::max(worstWindow, sum / (kWindow * kWindow * 3) * 255.0);
         }
     return {mse > 0 ? 10.0 * std::log10(1.0 / mse) : 99.0, absolute / n * 255.0, worstWindow};
@@ -185,7 +182,8 @@ void writePng(const fs::path& path, const Image& img) {
 // |difference| of the sRGB values, times 8, as a linear 8-bit image.
 void writeDiff(const fs::path& path, const Image& a, const Image& b) {
     std::vector<float> diff(a.rgb.size());
-    for (size_t i = 0; i < diff.size(); ++i) diff[i] = std::min(1.0f, 8.0f * std::abs(srgb(a.rgb[i]) - srgb(b.rgb[i])));
+    for (size_t i = 0; i < diff.size(); ++i)
+        diff[i] = std::min(1.0f, 8.0f * std::abs(linearToSrgb(a.rgb[i]) - linearToSrgb(b.rgb[i])));
     writeImage(path, a.width, a.height, 3, diff, PixelEncoding::Linear8);
 }
 
@@ -559,7 +557,7 @@ TEST(PovrayCrossCheck, MetricRejectsCsgMistakes) {
     }
 }
 
-// Depth of field: our thin lens against POV-Ray's focal_blur (host/scene/povray_export.h: aperture 4R,
+// Depth of field: our thin lens against POV-Ray's focal_blur (tools/povray/povray_export.h: aperture 4R,
 // focal_point on the axis at the focus distance). A checkered floor and spheres before, at and behind the
 // plane of focus (the middle sphere, 5 away). Both are run until the lens noise is small: 256 samples per
 // pixel here, 64 focal-blur rays per POV-Ray pixel at 4x4 per pixel (1024). Smaller than the other scenes

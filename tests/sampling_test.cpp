@@ -4,6 +4,7 @@
 #include "test_support.h"
 
 #include "io/image_io.h"
+#include "io/srgb.h"
 #include "render/adaptive.h"
 #include "scene/scene_loader.h"
 
@@ -105,15 +106,11 @@ TEST(Adaptive, ComponentsAddUpToTheImage) {
 
 // PSNR of two colour layers after clamping and sRGB encoding, as PNGs hold them.
 double psnr(const RenderResult& a, const RenderResult& b) {
-    auto encode = [](float v) {
-        v = std::clamp(v, 0.0f, 1.0f);
-        return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-    };
     double sum = 0;
     size_t n = 0;
     for (size_t i = 0; i < a.layers[0].size(); ++i) {
         if (i % 4 == 3) continue;
-        double d = encode(a.layers[0][i]) - encode(b.layers[0][i]);
+        double d = linearToSrgb(a.layers[0][i]) - linearToSrgb(b.layers[0][i]);
         sum += d * d;
         ++n;
     }

@@ -11,6 +11,7 @@
 
 #include "io/image_io.h"
 #include "io/mesh_file.h"
+#include "io/srgb.h"
 #include "io/texture_file.h"
 #include "scene/scene_loader.h"
 #include "scene/scene_writer.h"
@@ -35,14 +36,6 @@ fs::path textureDir() {
 glm::vec4 texel(const TextureLevel& level, int x, int y) {
     const uint16_t* t = &level.rgba[(size_t(y) * level.width + x) * 4];
     return {glm::unpackHalf1x16(t[0]), glm::unpackHalf1x16(t[1]), glm::unpackHalf1x16(t[2]), glm::unpackHalf1x16(t[3])};
-}
-
-float srgbToLinear(float c) {
-    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-float linearToSrgb(float v) {
-    v = std::clamp(v, 0.0f, 1.0f);
-    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
 // An 8-bit file is sRGB-decoded; a float file is taken as it is; data

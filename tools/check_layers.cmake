@@ -1,5 +1,7 @@
-# Fails when a file of host/ includes a header of a layer above its own
-# (run by the build: host/CMakeLists.txt, which lists the layers bottom to top).
+# Fails when a file of host/ includes a header of a layer above its own, or
+# of a library of the tools and tests (tools/NAME/*.h, such as
+# tools/povray/), which sit above every layer (run by the build:
+# host/CMakeLists.txt, which lists the layers bottom to top).
 #
 #   cmake "-DLAYERS=vk;io;..." -DHOST=host -DSTAMP=file -P tools/check_layers.cmake
 get_filename_component(root ${HOST}/.. ABSOLUTE)
@@ -20,6 +22,25 @@ foreach(layer ${LAYERS})
         string(APPEND failures "${rel}: the ${layer} layer includes \"${target}/\", a layer above it\n")
       endif()
     endforeach()
+  endforeach()
+endforeach()
+file(GLOB tool_headers ${root}/tools/*/*.h)
+set(tool_libraries "")
+foreach(header ${tool_headers})
+  get_filename_component(folder ${header} DIRECTORY)
+  get_filename_component(name ${folder} NAME)
+  list(APPEND tool_libraries ${name})
+endforeach()
+file(GLOB_RECURSE files ${HOST}/*.h ${HOST}/*.cpp)
+foreach(file ${files})
+  file(STRINGS ${file} includes REGEX "^#include \"[a-z_]+/")
+  foreach(include ${includes})
+    string(REGEX REPLACE "^#include \"([a-z_]+)/.*" "\\1" target "${include}")
+    list(FIND tool_libraries "${target}" found)
+    if(found GREATER -1)
+      file(RELATIVE_PATH rel ${root} ${file})
+      string(APPEND failures "${rel}: includes \"${target}/\", a library of the tools and tests (tools/${target}/)\n")
+    endif()
   endforeach()
 endforeach()
 if(failures)

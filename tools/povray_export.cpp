@@ -1,5 +1,5 @@
 // whitted_povray_export: writes a scene file as POV-Ray 3.7 SDL (see
-// host/scene/povray_export.h and tests/README.md "Cross-check against POV-Ray").
+// tools/povray/povray_export.h and tests/README.md "Cross-check against POV-Ray").
 //
 //   whitted_povray_export SCENE.xml OUT.pov [--width W] [--height H] [--max-depth D] [--blur-samples N]
 //   povray -D +WW +HH +FE File_Gamma=1.0 +IOUT.pov +Oout.exr
@@ -8,7 +8,7 @@
 // scene file's errors are reported as FILE:LINE: message).
 #include "app/commands.h"
 #include "device_types.h"
-#include "scene/povray_export.h"
+#include "povray/povray_export.h"
 #include "scene/scene_loader.h"
 
 #include <CLI/CLI.hpp>

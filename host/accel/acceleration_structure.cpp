@@ -95,81 +95,47 @@ AccelerationStructure prepare(const VulkanContext& ctx, Build& build, vk::Accele
     return s;
 }
 
-}  // namespace
-
-SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std::span<const gpu::Primitive> bounded) {
-    auto start = std::chrono::steady_clock::now();
-    auto props = ctx.physicalDevice.getProperties2<vk::PhysicalDeviceProperties2,
-                                                   vk::PhysicalDeviceAccelerationStructurePropertiesKHR>();
-    vk::DeviceSize scratchAlignment =
-        props.get<vk::PhysicalDeviceAccelerationStructurePropertiesKHR>().minAccelerationStructureScratchOffsetAlignment;
+// The triangles' geometry input: three vertices per primitive, so that the
+// query's primitive index is the Primitive's. Another shape's stand-in is a
+// triangle of zero area at its first point (a centre or corner), which no
+// ray hits: NaN vertices (inactive, as the spec allows) made lavapipe (Mesa
+// 25.0) miss whole structures.
+Buffer triangleInputs(VulkanContext& ctx, std::span<const gpu::Primitive> bounded) {
     uint32_t count = uint32_t(bounded.size());
-
-    // Geometry inputs: three vertices per primitive (NaN but for triangles)
-    // and one AABB per primitive (empty but for the other bounded shapes), so
-    // the query's primitive index is the Primitive's.
-    bool anyTriangle = false, anyBox = false;
-    for (const gpu::Primitive& p : bounded) (p.shape == gpu::kShapeTriangle ? anyTriangle : anyBox) = true;
-    Buffer vertices, boxes;
-    SceneAccelerationStructures result;
-    std::vector<Build> builds;
-    builds.reserve(3);
-    constexpr auto kNoDuplicates = vk::GeometryFlagBitsKHR::eNoDuplicateAnyHitInvocation;
-    if (anyTriangle) {
-        // Another shape's stand-in is a triangle of zero area at its first
-        // point (a centre or corner), which no ray hits: NaN vertices
-        // (inactive, as the spec allows) made lavapipe (Mesa 25.0) miss
-        // whole structures.
-        std::vector<glm::vec3> v(size_t(count) * 3);
-        for (uint32_t i = 0; i < count; ++i) {
-            bool triangle = bounded[i].shape == gpu::kShapeTriangle;
-            v[3 * i] = glm::vec3(bounded[i].a);
-            v[3 * i + 1] = triangle ? glm::vec3(bounded[i].b) : v[3 * i];
-            v[3 * i + 2] = triangle ? glm::vec3(bounded[i].c) : v[3 * i];
-        }
-        vertices = createDeviceBuffer(ctx, v.data(), v.size() * sizeof(glm::vec3), kBuildInput);
-        Build& b = builds.emplace_back();
-        b.geometry = vk::AccelerationStructureGeometryKHR{
-            .geometryType = vk::GeometryTypeKHR::eTriangles,
-            .geometry = {.triangles = vk::AccelerationStructureGeometryTrianglesDataKHR{
-                             .vertexFormat = vk::Format::eR32G32B32Sfloat,
-                             .vertexData = {.deviceAddress = vertices.address},
-                             .vertexStride = sizeof(glm::vec3),
-                             .maxVertex = 3 * count - 1,
-                             .indexType = vk::IndexType::eNoneKHR}},
-            // Opaque: closest hits are committed by the driver; shadow rays
-            // through glass ask for every candidate (gl_RayFlagsNoOpaqueEXT).
-            .flags = vk::GeometryFlagBitsKHR::eOpaque | kNoDuplicates};
-        result.triangles = prepare(ctx, b, vk::AccelerationStructureTypeKHR::eBottomLevel, count, scratchAlignment);
+    std::vector<glm::vec3> v(size_t(count) * 3);
+    for (uint32_t i = 0; i < count; ++i) {
+        bool triangle = bounded[i].shape == gpu::kShapeTriangle;
+        v[3 * i] = glm::vec3(bounded[i].a);
+        v[3 * i + 1] = triangle ? glm::vec3(bounded[i].b) : v[3 * i];
+        v[3 * i + 2] = triangle ? glm::vec3(bounded[i].c) : v[3 * i];
     }
-    if (anyBox) {
-        std::vector<vk::AabbPositionsKHR> a(count);
-        for (uint32_t i = 0; i < count; ++i) {
-            if (bounded[i].shape == gpu::kShapeTriangle) {
-                // NaN (inactive, as the spec allows) made lavapipe (Mesa
-                // 25.0) miss every AABB of the structure; an empty box at
-                // the triangle's first vertex instead, which the shader
-                // rejects should a ray pass exactly through it.
-                glm::vec3 v(bounded[i].a);
-                a[i] = vk::AabbPositionsKHR{v.x, v.y, v.z, v.x, v.y, v.z};
-                continue;
-            }
-            Aabb b = boundsOf(bounded[i]);
-            a[i] = vk::AabbPositionsKHR{b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z};
-        }
-        boxes = createDeviceBuffer(ctx, a.data(), a.size() * sizeof(vk::AabbPositionsKHR), kBuildInput);
-        Build& b = builds.emplace_back();
-        b.geometry = vk::AccelerationStructureGeometryKHR{
-            .geometryType = vk::GeometryTypeKHR::eAabbs,
-            .geometry = {.aabbs = vk::AccelerationStructureGeometryAabbsDataKHR{
-                             .data = {.deviceAddress = boxes.address}, .stride = sizeof(vk::AabbPositionsKHR)}},
-            .flags = vk::GeometryFlagBitsKHR::eOpaque | kNoDuplicates};
-        result.boxes = prepare(ctx, b, vk::AccelerationStructureTypeKHR::eBottomLevel, count, scratchAlignment);
-    }
+    return createDeviceBuffer(ctx, v.data(), v.size() * sizeof(glm::vec3), kBuildInput);
+}
 
-    // The top level: one instance per bottom level, identity transform.
+// The other bounded shapes' geometry input: one AABB per primitive. A
+// triangle's is an empty box at its first vertex, which the shader rejects
+// should a ray pass exactly through it: NaN (inactive, as the spec allows)
+// made lavapipe (Mesa 25.0) miss every AABB of the structure.
+Buffer boxInputs(VulkanContext& ctx, std::span<const gpu::Primitive> bounded) {
+    uint32_t count = uint32_t(bounded.size());
+    std::vector<vk::AabbPositionsKHR> a(count);
+    for (uint32_t i = 0; i < count; ++i) {
+        if (bounded[i].shape == gpu::kShapeTriangle) {
+            glm::vec3 v(bounded[i].a);
+            a[i] = vk::AabbPositionsKHR{v.x, v.y, v.z, v.x, v.y, v.z};
+            continue;
+        }
+        Aabb b = boundsOf(bounded[i]);
+        a[i] = vk::AabbPositionsKHR{b.min.x, b.min.y, b.min.z, b.max.x, b.max.y, b.max.z};
+    }
+    return createDeviceBuffer(ctx, a.data(), a.size() * sizeof(vk::AabbPositionsKHR), kBuildInput);
+}
+
+// The top level's input: one instance per bottom level built, identity
+// transform. `count` is set to the number of instances.
+Buffer instanceInputs(VulkanContext& ctx, const SceneAccelerationStructures& bottom, uint32_t& count) {
     std::vector<vk::AccelerationStructureInstanceKHR> instances;
-    for (const AccelerationStructure* s : {&result.triangles, &result.boxes})
+    for (const AccelerationStructure* s : {&bottom.triangles, &bottom.boxes})
         if (s->address) {
             vk::AccelerationStructureInstanceKHR instance{};
             instance.transform.matrix[0][0] = instance.transform.matrix[1][1] = instance.transform.matrix[2][2] = 1.0f;
@@ -177,20 +143,16 @@ SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std:
             instance.accelerationStructureReference = s->address;
             instances.push_back(instance);
         }
-    Buffer instanceBuffer =
-        createDeviceBuffer(ctx, instances.empty() ? nullptr : instances.data(),
-                           std::max<size_t>(instances.size(), 1) * sizeof(vk::AccelerationStructureInstanceKHR),
-                           kBuildInput);
-    size_t bottomCount = builds.size();
-    Build& top = builds.emplace_back();
-    top.geometry = vk::AccelerationStructureGeometryKHR{
-        .geometryType = vk::GeometryTypeKHR::eInstances,
-        .geometry = {.instances = vk::AccelerationStructureGeometryInstancesDataKHR{
-                         .data = {.deviceAddress = instanceBuffer.address}}}};
-    result.top = prepare(ctx, top, vk::AccelerationStructureTypeKHR::eTopLevel, uint32_t(instances.size()),
-                         scratchAlignment);
+    count = uint32_t(instances.size());
+    return createDeviceBuffer(ctx, instances.empty() ? nullptr : instances.data(),
+                              std::max<size_t>(instances.size(), 1) * sizeof(vk::AccelerationStructureInstanceKHR),
+                              kBuildInput);
+}
 
-    // Bottom levels together, then the top level, then the shader's reads.
+// Bottom levels together, then the top level (the last build), then the
+// shader's reads.
+void recordBuilds(VulkanContext& ctx, const std::vector<Build>& builds) {
+    size_t bottomCount = builds.size() - 1;
     ctx.submitAndWait([&](vk::raii::CommandBuffer& cmd) {
         vk::MemoryBarrier inputs{.srcAccessMask = vk::AccessFlagBits::eTransferWrite | vk::AccessFlagBits::eHostWrite,
                                  .dstAccessMask = vk::AccessFlagBits::eShaderRead};
@@ -218,6 +180,65 @@ SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std:
         cmd.pipelineBarrier(vk::PipelineStageFlagBits::eAccelerationStructureBuildKHR,
                             vk::PipelineStageFlagBits::eComputeShader, {}, toShader, nullptr, nullptr);
     });
+}
+
+}  // namespace
+
+SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std::span<const gpu::Primitive> bounded) {
+    auto start = std::chrono::steady_clock::now();
+    auto props = ctx.physicalDevice.getProperties2<vk::PhysicalDeviceProperties2,
+                                                   vk::PhysicalDeviceAccelerationStructurePropertiesKHR>();
+    vk::DeviceSize scratchAlignment =
+        props.get<vk::PhysicalDeviceAccelerationStructurePropertiesKHR>().minAccelerationStructureScratchOffsetAlignment;
+    uint32_t count = uint32_t(bounded.size());
+
+    // Bottom levels: one of the triangles, one of the other bounded shapes,
+    // each over every primitive so that the query's primitive index is the
+    // Primitive's.
+    bool anyTriangle = false, anyBox = false;
+    for (const gpu::Primitive& p : bounded) (p.shape == gpu::kShapeTriangle ? anyTriangle : anyBox) = true;
+    Buffer vertices, boxes;
+    SceneAccelerationStructures result;
+    std::vector<Build> builds;
+    builds.reserve(3);  // the builds' infos point at their geometry: no reallocation
+    constexpr auto kNoDuplicates = vk::GeometryFlagBitsKHR::eNoDuplicateAnyHitInvocation;
+    if (anyTriangle) {
+        vertices = triangleInputs(ctx, bounded);
+        Build& b = builds.emplace_back();
+        b.geometry = vk::AccelerationStructureGeometryKHR{
+            .geometryType = vk::GeometryTypeKHR::eTriangles,
+            .geometry = {.triangles = vk::AccelerationStructureGeometryTrianglesDataKHR{
+                             .vertexFormat = vk::Format::eR32G32B32Sfloat,
+                             .vertexData = {.deviceAddress = vertices.address},
+                             .vertexStride = sizeof(glm::vec3),
+                             .maxVertex = 3 * count - 1,
+                             .indexType = vk::IndexType::eNoneKHR}},
+            // Opaque: closest hits are committed by the driver; shadow rays
+            // through glass ask for every candidate (gl_RayFlagsNoOpaqueEXT).
+            .flags = vk::GeometryFlagBitsKHR::eOpaque | kNoDuplicates};
+        result.triangles = prepare(ctx, b, vk::AccelerationStructureTypeKHR::eBottomLevel, count, scratchAlignment);
+    }
+    if (anyBox) {
+        boxes = boxInputs(ctx, bounded);
+        Build& b = builds.emplace_back();
+        b.geometry = vk::AccelerationStructureGeometryKHR{
+            .geometryType = vk::GeometryTypeKHR::eAabbs,
+            .geometry = {.aabbs = vk::AccelerationStructureGeometryAabbsDataKHR{
+                             .data = {.deviceAddress = boxes.address}, .stride = sizeof(vk::AabbPositionsKHR)}},
+            .flags = vk::GeometryFlagBitsKHR::eOpaque | kNoDuplicates};
+        result.boxes = prepare(ctx, b, vk::AccelerationStructureTypeKHR::eBottomLevel, count, scratchAlignment);
+    }
+
+    uint32_t instanceCount = 0;
+    Buffer instanceBuffer = instanceInputs(ctx, result, instanceCount);
+    Build& top = builds.emplace_back();
+    top.geometry = vk::AccelerationStructureGeometryKHR{
+        .geometryType = vk::GeometryTypeKHR::eInstances,
+        .geometry = {.instances = vk::AccelerationStructureGeometryInstancesDataKHR{
+                         .data = {.deviceAddress = instanceBuffer.address}}}};
+    result.top = prepare(ctx, top, vk::AccelerationStructureTypeKHR::eTopLevel, instanceCount, scratchAlignment);
+
+    recordBuilds(ctx, builds);
     result.buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
 }

@@ -82,141 +82,174 @@ std::vector<std::string> deviceNames(const std::string& option) {
 // the staging folder goes, nothing is written.
 struct ValidationFailed {};
 
-int runRenderCommand(const RenderCommandOptions& options) {
-    // Everything that can be refused is refused before the device starts.
-    std::vector<std::string> aovs;
-    try {
-        aovs = parseAovList(options.aovs, options.settings.aovBounces);
-    } catch (const std::invalid_argument& e) {
-        std::cerr << "whitted: --aov: " << e.what() << " (see whitted render --help)\n";
-        return kExitBadInput;
-    }
-    Scene scene;
-    auto loadStart = std::chrono::steady_clock::now();
-    try {
-        scene = loadSceneOrModel(options.scene, options.camera);  // a model file: authored or a quick look
-    } catch (const SceneError& e) {
-        std::cerr << e.what() << "\n";
-        return kExitBadInput;
-    }
-    double loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
-    for (const std::string& warning : scene.warnings) std::cerr << "warning: " << warning << "\n";
-    if (options.output)
-        if (auto problem = checkOutputPlace(*options.output)) {
-            std::cerr << "whitted: " << *problem << "\n";
+// One `whitted render` in its steps: load and check what was asked, open
+// the devices and their renderers, render into the files, report.
+class RenderRun {
+public:
+    explicit RenderRun(const RenderCommandOptions& options) : options_(options) {}
+
+    // Everything that can be refused is refused before the device starts:
+    // the auxiliary images asked for, the scene, the output's place.
+    // Returns the exit code of a refusal.
+    std::optional<int> load() {
+        try {
+            aovs_ = parseAovList(options_.aovs, options_.settings.aovBounces);
+        } catch (const std::invalid_argument& e) {
+            std::cerr << "whitted: --aov: " << e.what() << " (see whitted render --help)\n";
             return kExitBadInput;
         }
+        auto loadStart = std::chrono::steady_clock::now();
+        try {
+            scene_ = loadSceneOrModel(options_.scene, options_.camera);  // a model file: authored or a quick look
+        } catch (const SceneError& e) {
+            std::cerr << e.what() << "\n";
+            return kExitBadInput;
+        }
+        loadSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
+        for (const std::string& warning : scene_.warnings) std::cerr << "warning: " << warning << "\n";
+        if (options_.output)
+            if (auto problem = checkOutputPlace(*options_.output)) {
+                std::cerr << "whitted: " << *problem << "\n";
+                return kExitBadInput;
+            }
+        settings_ = options_.settings;
+        settings_.auxiliary = !aovs_.empty();
+        // Split layers only when a split image is written (they cost memory and bandwidth).
+        if (!hasSplitAov(aovs_)) settings_.aovBounces = 0;
+        settings_.ids = hasIdAov(aovs_);  // the id layer, likewise
+        return std::nullopt;
+    }
 
-    RenderSettings settings = options.settings;
-    settings.auxiliary = !aovs.empty();
-    // Split layers only when a split image is written (they cost memory and bandwidth).
-    if (!hasSplitAov(aovs)) settings.aovBounces = 0;
-    settings.ids = hasIdAov(aovs);  // the id layer, likewise
     // One context and renderer per device: --device all, or a list such as
     // 0,1 (the same device may be named twice, which tests the sharing).
-    std::vector<std::unique_ptr<VulkanContext>> contexts;
-    for (const std::string& name : deviceNames(options.device)) {
-        contexts.push_back(std::make_unique<VulkanContext>(ContextOptions{.validation = options.validation, .deviceName = name}));
-        const DeviceInfo& d = contexts.back()->deviceInfo();
-        if (!options.quiet) std::cerr << "whitted: device " << d.name << " (" << d.type << ", " << d.driver << ")\n";
-    }
-    // The image module loads beside the pipeline build when a core is idle,
-    // unless the images go where it is not needed (PPM, PGM; a scene's
-    // textures loaded it already).
-    if (!options.output || !writtenWithoutImageLibrary(*options.output)) preloadImageLibrary();
-    VulkanContext& ctx = *contexts.front();
-    auto validationMessages = [&] {
-        uint32_t n = 0;
-        for (const auto& c : contexts) n += c->validationMessageCount();
-        return n;
-    };
-
-    std::vector<std::unique_ptr<Renderer>> renderers;
-    std::vector<Renderer*> shares;
-    try {
-        for (const auto& c : contexts) shares.push_back(renderers.emplace_back(std::make_unique<Renderer>(*c, scene, settings)).get());
-    } catch (const std::invalid_argument& e) {  // a region outside the image
-        std::cerr << "whitted: --region: " << e.what() << "\n";
-        return kExitBadInput;
-    }
-    Renderer* renderer = shares.front();
-    if (options.output)
-        if (auto problem = checkOutputFormat(*options.output)) {
-            std::cerr << "whitted: " << *problem << "\n";
+    // Returns the exit code of a refusal: a region outside the image, an
+    // output format that can't be written.
+    std::optional<int> openDevices() {
+        for (const std::string& name : deviceNames(options_.device)) {
+            contexts_.push_back(
+                std::make_unique<VulkanContext>(ContextOptions{.validation = options_.validation, .deviceName = name}));
+            const DeviceInfo& d = contexts_.back()->deviceInfo();
+            if (!options_.quiet)
+                std::cerr << "whitted: device " << d.name << " (" << d.type << ", " << d.driver << ")\n";
+        }
+        // The image module loads beside the pipeline build when a core is
+        // idle, unless the images go where it is not needed (PPM, PGM; a
+        // scene's textures loaded it already).
+        if (!options_.output || !writtenWithoutImageLibrary(*options_.output)) preloadImageLibrary();
+        try {
+            for (const auto& c : contexts_)
+                shares_.push_back(renderers_.emplace_back(std::make_unique<Renderer>(*c, scene_, settings_)).get());
+        } catch (const std::invalid_argument& e) {  // a region outside the image
+            std::cerr << "whitted: --region: " << e.what() << "\n";
             return kExitBadInput;
         }
-    auto sharedWith = [&] {
-        std::vector<DeviceInfo> others;
-        for (size_t i = 1; i < contexts.size(); ++i) others.push_back(contexts[i]->deviceInfo());
-        return others;
-    };
+        if (options_.output)
+            if (auto problem = checkOutputFormat(*options_.output)) {
+                std::cerr << "whitted: " << *problem << "\n";
+                return kExitBadInput;
+            }
+        return std::nullopt;
+    }
 
-    // Bands stream into the image files as they complete (written under
-    // temporary names, renamed only once the render is complete and clean);
-    // the files go exactly where -o says, or into a new history folder.
-    RenderResult result;
-    std::vector<std::filesystem::path> files;
-    std::filesystem::path shown;
-    auto renderInto = [&](const std::filesystem::path& mainImage) {
-        ImageFileSink sink(mainImage, aovs, options.tonemap, renderer->layout(), settings.samplesPerPixel,
-                           options.exposure);
-        ProgressBar bar("rendering", !options.quiet);
-        result = renderOnDevices(shares, sink, [&](double f) { bar.update(f); });
-        bar.finish();
-        if (result.lostSamples > 0)
-            std::cerr << "warning: the driver cut " << result.lostSamples
-                      << " camera samples short (lavapipe's loop iteration cap); the image is incomplete there\n";
-        if (validationMessages() > 0) return false;
-        files = sink.finish();
-        return true;
-    };
-    auto recordJson = [&] {
-        return renderRecordJson({.scenePath = options.scene, .settings = settings, .tonemap = tonemapName(options.tonemap),
-                                 .device = ctx.deviceInfo(), .sharedWith = sharedWith(), .result = &result, .files = files, .loadSeconds = loadSeconds,
-                                 .masks = settings.ids ? &scene : nullptr, .exposure = options.exposure,
-                                 .camera = options.camera});
-    };
-    bool clean = true;
-    if (options.output) {
-        clean = renderInto(*options.output);
-        shown = *options.output;
-        // The record goes beside the image: out.png -> out.json.
-        std::filesystem::path recordPath = *options.output;
-        recordPath.replace_extension(".json");
-        if (clean) writeTextFile(recordPath, recordJson());
-    } else {
+    // Renders into the files exactly where -o says, or into a new history
+    // folder, with the render record beside them. Returns the image shown
+    // to the user, or nothing when the validation layer spoke.
+    std::optional<std::filesystem::path> renderFiles() {
+        if (options_.output) {
+            if (!renderInto(*options_.output)) return std::nullopt;
+            // The record goes beside the image: out.png -> out.json.
+            std::filesystem::path recordPath = *options_.output;
+            recordPath.replace_extension(".json");
+            writeTextFile(recordPath, recordJson());
+            return *options_.output;
+        }
         try {
-            shown = writeHistoryFolder(options.historyRoot, [&](const std::filesystem::path& staging) {
+            return writeHistoryFolder(options_.historyRoot, [&](const std::filesystem::path& staging) {
                 if (!renderInto(staging / "image.png")) throw ValidationFailed{};
-                if (isSceneFile(options.scene))
-                    std::filesystem::copy_file(options.scene, staging / "scene.xml");
+                if (isSceneFile(options_.scene))
+                    std::filesystem::copy_file(options_.scene, staging / "scene.xml");
                 else  // a quick look: the scene built for the model
-                    writeSceneFile(scene, staging / "scene.xml");
-                files.push_back(staging / "scene.xml");
+                    writeSceneFile(scene_, staging / "scene.xml");
+                files_.push_back(staging / "scene.xml");
                 writeTextFile(staging / "render.json", recordJson());
             });
         } catch (const ValidationFailed&) {
-            clean = false;
+            return std::nullopt;
         }
     }
-    if (!clean) {
-        std::cerr << "whitted: the Vulkan validation layer reported " << validationMessages()
+
+    uint32_t validationMessages() const {
+        uint32_t n = 0;
+        for (const auto& c : contexts_) n += c->validationMessageCount();
+        return n;
+    }
+
+    // Scene preparation times (the loader, model files included; the BVH
+    // build; the upload to the device), then the image written and the
+    // render's speed.
+    void printSummary(const std::filesystem::path& shown) const {
+        const RenderResult& r = result_;
+        std::fprintf(stderr, "whitted: scene loaded in %.2f s, BVH of %u wide nodes built in %.2f s, uploaded in %.2f s\n",
+                     loadSeconds_, r.bvh.wideNodeCount, r.bvh.buildSeconds, r.uploadSeconds);
+        double mrays = double(r.rays.total()) / std::max(r.renderSeconds, 1e-9) / 1e6;
+        double meanSpp = double(r.samplesTaken) / (double(r.width) * r.height);
+        std::fprintf(stderr, "whitted: wrote %s (%dx%d, %s %.2f spp of at most %d, %zu auxiliary) in %.2f s, %.1f Mrays/s\n",
+                     shown.string().c_str(), r.width, r.height,
+                     settings_.antiAliasing == AntiAliasing::Adaptive ? "adaptive" : "uniform", meanSpp,
+                     r.samplesPerPixel, aovs_.size(), r.renderSeconds, mrays);
+    }
+
+private:
+    // Bands stream into the image files as they complete (written under
+    // temporary names, renamed only once the render is complete and
+    // clean). Returns false when the validation layer spoke.
+    bool renderInto(const std::filesystem::path& mainImage) {
+        ImageFileSink sink(mainImage, aovs_, options_.tonemap, shares_.front()->layout(), settings_.samplesPerPixel,
+                           options_.exposure);
+        ProgressBar bar("rendering", !options_.quiet);
+        result_ = renderOnDevices(shares_, sink, [&](double f) { bar.update(f); });
+        bar.finish();
+        if (result_.lostSamples > 0)
+            std::cerr << "warning: the driver cut " << result_.lostSamples
+                      << " camera samples short (lavapipe's loop iteration cap); the image is incomplete there\n";
+        if (validationMessages() > 0) return false;
+        files_ = sink.finish();
+        return true;
+    }
+
+    std::string recordJson() const {
+        std::vector<DeviceInfo> sharedWith;
+        for (size_t i = 1; i < contexts_.size(); ++i) sharedWith.push_back(contexts_[i]->deviceInfo());
+        return renderRecordJson({.scenePath = options_.scene, .settings = settings_,
+                                 .tonemap = tonemapName(options_.tonemap), .device = contexts_.front()->deviceInfo(),
+                                 .sharedWith = sharedWith, .result = &result_, .files = files_,
+                                 .loadSeconds = loadSeconds_, .masks = settings_.ids ? &scene_ : nullptr,
+                                 .exposure = options_.exposure, .camera = options_.camera});
+    }
+
+    const RenderCommandOptions& options_;
+    std::vector<std::string> aovs_;
+    Scene scene_;
+    double loadSeconds_ = 0;
+    RenderSettings settings_;
+    std::vector<std::unique_ptr<VulkanContext>> contexts_;
+    std::vector<std::unique_ptr<Renderer>> renderers_;
+    std::vector<Renderer*> shares_;  // the renderers, one per device
+    RenderResult result_;
+    std::vector<std::filesystem::path> files_;
+};
+
+int runRenderCommand(const RenderCommandOptions& options) {
+    RenderRun run(options);
+    if (auto refused = run.load()) return *refused;
+    if (auto refused = run.openDevices()) return *refused;
+    std::optional<std::filesystem::path> shown = run.renderFiles();
+    if (!shown) {
+        std::cerr << "whitted: the Vulkan validation layer reported " << run.validationMessages()
                   << " message(s); no image written\n";
         return kExitValidation;
     }
-
-    if (!options.quiet) {
-        // Scene preparation times: the loader (model files included), the
-        // BVH build and the upload to the device.
-        std::fprintf(stderr, "whitted: scene loaded in %.2f s, BVH of %u wide nodes built in %.2f s, uploaded in %.2f s\n",
-                     loadSeconds, result.bvh.wideNodeCount, result.bvh.buildSeconds, result.uploadSeconds);
-        double mrays = double(result.rays.total()) / std::max(result.renderSeconds, 1e-9) / 1e6;
-        double meanSpp = double(result.samplesTaken) / (double(result.width) * result.height);
-        std::fprintf(stderr, "whitted: wrote %s (%dx%d, %s %.2f spp of at most %d, %zu auxiliary) in %.2f s, %.1f Mrays/s\n",
-                     shown.string().c_str(), result.width, result.height,
-                     settings.antiAliasing == AntiAliasing::Adaptive ? "adaptive" : "uniform", meanSpp,
-                     result.samplesPerPixel, aovs.size(), result.renderSeconds, mrays);
-    }
+    if (!options.quiet) run.printSummary(*shown);
     return kExitOk;
 }
 

@@ -2,6 +2,7 @@
 
 #include "io/image_library.h"
 #include "io/png_file.h"
+#include "io/srgb.h"
 
 #include <algorithm>
 #include <array>
@@ -22,12 +23,6 @@ std::string lowerExtension(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
     return ext;
-}
-
-// The sRGB transfer function (IEC 61966-2-1).
-float linearToSrgb(float v) {
-    v = std::clamp(v, 0.0f, 1.0f);
-    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
 }
 
 // lround(255 * linearToSrgb(v)) without a pow per value: the 255 smallest

@@ -329,150 +329,170 @@ void packCamera(const Camera& camera, int width, int height, gpu::FrameParams& p
     p.up = glm::vec3(up * halfHeight);
 }
 
-GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCache* parts) {
-    GpuScene g;
-    g.width = settings.width > 0 ? settings.width : scene.camera.width;
-    g.height = settings.height > 0 ? settings.height : scene.camera.height;
+namespace {
 
-    // Sized up front: a 10M-triangle mesh grown by doubling would hold up to
-    // twice its 640 MB while the BVH is built.
+// A mesh object with a tree of its own (BvhPartCache): its primitives'
+// range among the gathered ones.
+struct PartRange {
+    uint32_t first, count;
+    const BvhPartCache::Entry* part;
+};
+
+// Every object's primitives in the objects' order, before the BVH orders
+// them.
+struct GatheredPrimitives {
     std::vector<gpu::Primitive> primitives;
+    // The bounds of the primitives outside the parts, in their order.
     std::vector<Aabb> bounds;
-    size_t count = countSceneArrays(scene).primitives;
-    primitives.reserve(count);
-    bounds.reserve(count);
-    g.materials.reserve(scene.objects.size());
     // Csg objects: their leaves and programs go into csg, the materials of
     // children with their own after the objects' (an object's material
     // index stays its index).
     CsgArrays csg;
-    csg.firstMaterial = uint32_t(scene.objects.size());
+    std::vector<uint32_t> leafInObject;  // csg.leaves' share of primitiveInObject
+    std::vector<PartRange> partRanges;
+    size_t partTriangles = 0;  // the triangles of the parts this pack uses
+    uint64_t partsBuilt = 0;   // those of the parts it built
+    double partSeconds = 0;    // finding and building the parts
+};
+
+// A mesh object's part: its primitives, already in the part's leaf order,
+// given the object's material and index; each triangle's index in the mesh
+// and its surface attributes follow the same order.
+void appendPart(const BvhPartCache::Entry& part, uint32_t objectIndex, bool attributes, GatheredPrimitives& out,
+                GpuScene& g) {
+    size_t first = out.primitives.size();
+    out.primitives.insert(out.primitives.end(), part.primitives.begin(), part.primitives.end());
+    for (size_t k = first; k < out.primitives.size(); ++k) {
+        out.primitives[k].material = objectIndex;
+        out.primitives[k].extra1 = objectIndex;
+    }
+    out.partRanges.push_back({uint32_t(first), uint32_t(part.primitives.size()), &part});
+    g.primitiveInObject.insert(g.primitiveInObject.end(), part.meshOrder.begin(), part.meshOrder.end());
+    if (!attributes) return;
+    if (part.attributes) g.attributes.insert(g.attributes.end(), part.surface.begin(), part.surface.end());
+    else g.attributes.resize(g.attributes.size() + part.primitives.size(), gpu::SurfaceAttributes{});
+}
+
+// The first step of packScene: each object's primitives and their bounds,
+// a mesh's from its part where it has one; and into g, each primitive's
+// index within its object and, when a textured mesh needs them, its
+// surface attributes.
+GatheredPrimitives gatherPrimitives(const Scene& scene, const RenderSettings& settings, BvhPartCache* parts,
+                                    GpuScene& g) {
+    GatheredPrimitives out;
+    // Sized up front: a large mesh grown by doubling would hold up to twice
+    // its size while the BVH is built.
+    size_t count = countSceneArrays(scene).primitives;
+    out.primitives.reserve(count);
+    out.bounds.reserve(count);
+    out.csg.firstMaterial = uint32_t(scene.objects.size());
     bool attributes = std::any_of(scene.objects.begin(), scene.objects.end(), needsAttributes);
     if (attributes) g.attributes.reserve(count);
     g.primitiveInObject.reserve(count);
-    std::vector<uint32_t> leafInObject;  // csg.leaves' share of primitiveInObject
-    // Meshes with trees of their own (BvhPartCache): their primitives'
-    // range; `bounds` holds only the other primitives'.
-    struct PartRange {
-        uint32_t first, count;
-        const BvhPartCache::Entry* part;
-    };
-    std::vector<PartRange> partRanges;
-    size_t partTriangles = 0;
-    uint64_t partsBuilt = 0;
-    double partSeconds = 0;  // finding and building the parts
     if (parts)
         for (auto& e : parts->entries) e->used = false;
-    for (const Object& object : scene.objects) {
-        uint32_t material = uint32_t(g.materials.size());
-        g.materials.push_back(packMaterial(object.material, g.textures));
-        size_t first = primitives.size();
+    for (uint32_t objectIndex = 0; objectIndex < scene.objects.size(); ++objectIndex) {
+        const Object& object = scene.objects[objectIndex];
+        uint32_t material = objectIndex;  // objects and their materials share the index
+        size_t first = out.primitives.size();
         // Every primitive a hit can report (a csg object's leaves, not the
         // csg primitive itself) names its object for the object_id mask.
-        uint32_t objectIndex = material;  // objects and their materials share the index
         if (const Csg* c = std::get_if<Csg>(&object.shape)) {
-            size_t firstLeaf = csg.leaves.size();
-            primitives.push_back(packCsg(*c, material, csg));
-            bounds.push_back(boundsCsg(*c));
-            for (size_t k = firstLeaf; k < csg.leaves.size(); ++k) {
-                csg.leaves[k].extra1 = objectIndex;
-                leafInObject.push_back(uint32_t(k - firstLeaf));
+            size_t firstLeaf = out.csg.leaves.size();
+            out.primitives.push_back(packCsg(*c, material, out.csg));
+            out.bounds.push_back(boundsCsg(*c));
+            for (size_t k = firstLeaf; k < out.csg.leaves.size(); ++k) {
+                out.csg.leaves[k].extra1 = objectIndex;
+                out.leafInObject.push_back(uint32_t(k - firstLeaf));
             }
-        } else if (const BvhPartCache::Entry* part = parts && settings.useBvh
-                                                         ? partFor(object, material, *parts, partTriangles, partsBuilt, partSeconds)
-                                                         : nullptr) {
-            primitives.insert(primitives.end(), part->primitives.begin(), part->primitives.end());
-            for (size_t k = first; k < primitives.size(); ++k) {
-                primitives[k].material = material;
-                primitives[k].extra1 = objectIndex;
-            }
-            partRanges.push_back({uint32_t(first), uint32_t(part->primitives.size()), part});
-            // Each triangle's index in the mesh: the part's leaf order.
-            const std::vector<uint32_t>& inMesh = part->meshOrder;
-            g.primitiveInObject.insert(g.primitiveInObject.end(), inMesh.begin(), inMesh.end());
-            if (!attributes) continue;
-            if (part->attributes) g.attributes.insert(g.attributes.end(), part->surface.begin(), part->surface.end());
-            else g.attributes.resize(g.attributes.size() + part->primitives.size(), gpu::SurfaceAttributes{});
+        } else if (const BvhPartCache::Entry* part =
+                       parts && settings.useBvh ? partFor(object, material, *parts, out.partTriangles,
+                                                          out.partsBuilt, out.partSeconds)
+                                                : nullptr) {
+            appendPart(*part, objectIndex, attributes, out, g);
             continue;
         } else {
-            appendPrimitives(object.shape, material, primitives, bounds);
-            for (size_t k = first; k < primitives.size(); ++k) primitives[k].extra1 = objectIndex;
+            appendPrimitives(object.shape, material, out.primitives, out.bounds);
+            for (size_t k = first; k < out.primitives.size(); ++k) out.primitives[k].extra1 = objectIndex;
         }
-        for (size_t k = first; k < primitives.size(); ++k) g.primitiveInObject.push_back(uint32_t(k - first));
+        for (size_t k = first; k < out.primitives.size(); ++k) g.primitiveInObject.push_back(uint32_t(k - first));
         if (!attributes) continue;
         if (needsAttributes(object)) {
             const Mesh& mesh = std::get<Mesh>(object.shape);
-            for (size_t i = 0; i < mesh.uvs.size(); ++i) {
-                g.attributes.push_back(surfaceAttributes(mesh, i));
-            }
+            for (size_t i = 0; i < mesh.uvs.size(); ++i) g.attributes.push_back(surfaceAttributes(mesh, i));
         } else {
-            g.attributes.resize(g.attributes.size() + (primitives.size() - first), gpu::SurfaceAttributes{});
+            g.attributes.resize(g.attributes.size() + (out.primitives.size() - first), gpu::SurfaceAttributes{});
         }
     }
-    for (const Material& m : csg.materials) g.materials.push_back(packMaterial(m, g.textures));
+    return out;
+}
 
-    // Bounded primitives go into the BVH (reordered to its leaf order),
-    // unbounded ones (planes) after them. Bounds are padded by a few float
-    // ulps: the shader intersects float-rounded shapes.
-    std::vector<uint32_t> bounded, unbounded;
+// The primitives outside the parts, split: bounded ones go into the BVH
+// with their bounds padded by a few float ulps (the shader intersects
+// float-rounded shapes); unbounded ones (planes), and every one when the
+// BVH is off, go into the list the shader tests after the tree.
+struct BoundedSplit {
+    std::vector<uint32_t> bounded, unbounded;  // indices into the gathered primitives
     std::vector<Aabb> boundedBounds;
-    {
-        size_t part = 0, j = 0;  // the next part range, the next entry of bounds
-        for (uint32_t i = 0; i < primitives.size(); ++i) {
-            if (part < partRanges.size() && i == partRanges[part].first) {
-                i += partRanges[part++].count - 1;
-                continue;
-            }
-            const Aabb& b = bounds[j++];
-            if (settings.useBvh && b.finite()) {
-                bounded.push_back(i);
-                boundedBounds.push_back(padded(b));
-            } else {
-                unbounded.push_back(i);
-            }
+};
+
+BoundedSplit splitBounded(const GatheredPrimitives& gathered, bool useBvh) {
+    BoundedSplit split;
+    size_t part = 0, j = 0;  // the next part range, the next entry of bounds
+    for (uint32_t i = 0; i < gathered.primitives.size(); ++i) {
+        if (part < gathered.partRanges.size() && i == gathered.partRanges[part].first) {
+            i += gathered.partRanges[part++].count - 1;
+            continue;
+        }
+        const Aabb& b = gathered.bounds[j++];
+        if (useBvh && b.finite()) {
+            split.bounded.push_back(i);
+            split.boundedBounds.push_back(padded(b));
+        } else {
+            split.unbounded.push_back(i);
         }
     }
-    size_t boundedCount = bounded.size() + partTriangles;
-    if (boundedCount > gpu::kBvhMaxPrimitives)
-        throw std::runtime_error("the scene has " + std::to_string(boundedCount) +
-                                 " bounded primitives, more than the shader's BVH addresses (" +
-                                 std::to_string(gpu::kBvhMaxPrimitives) + ")");
-    std::vector<Aabb>().swap(bounds);
+    return split;
+}
+
+// The BVH over the bounded primitives into g.bvhNodes and g.bvhStats: one
+// tree built now, or, with parts, the tree of every other bounded primitive
+// joined with the parts' trees. Returns the BVH's leaves in order, each as
+// its index in the gathered primitives.
+std::vector<uint32_t> buildSceneBvh(BoundedSplit& split, const GatheredPrimitives& gathered, BvhPartCache* parts,
+                                    GpuScene& g) {
     auto start = std::chrono::steady_clock::now();
-    // `source`: the primitives in their final order (the BVH's leaves', then
-    // the unbounded ones), each as its index in `primitives`.
-    std::vector<uint32_t> source;
-    if (partRanges.empty()) {
-        Bvh bvh = buildBvh(boundedBounds);
-        std::vector<Aabb>().swap(boundedBounds);
+    std::vector<uint32_t> order;
+    if (gathered.partRanges.empty()) {
+        Bvh bvh = buildBvh(split.boundedBounds);
+        std::vector<Aabb>().swap(split.boundedBounds);
         g.bvhNodes = collapseToWide(bvh.nodes, bvh.primitiveOrder);
         g.bvhStats = bvh.stats;
         g.bvhStats.wideNodeCount = uint32_t(g.bvhNodes.size());
-        g.bvhStats.primitivesBuilt = bounded.size();
-        source = std::move(bvh.primitiveOrder);
-        for (uint32_t& k : source) k = bounded[k];
+        g.bvhStats.primitivesBuilt = split.bounded.size();
+        order = std::move(bvh.primitiveOrder);
+        for (uint32_t& k : order) k = split.bounded[k];
     } else {
-        // The tree of every other bounded primitive, and the parts, joined.
         WideBvh rest;
         std::vector<const WideBvh*> trees;
         std::vector<uint32_t> treeFirst;
-        if (!boundedBounds.empty()) {
-            rest = buildWideBvh(boundedBounds);
-            for (uint32_t& k : rest.order) k = bounded[k];
+        if (!split.boundedBounds.empty()) {
+            rest = buildWideBvh(split.boundedBounds);
+            for (uint32_t& k : rest.order) k = split.bounded[k];
             trees.push_back(&rest);
             treeFirst.push_back(0);
         }
-        std::vector<Aabb>().swap(boundedBounds);
-        for (const PartRange& r : partRanges) {
+        std::vector<Aabb>().swap(split.boundedBounds);
+        for (const PartRange& r : gathered.partRanges) {
             trees.push_back(&r.part->tree);
             treeFirst.push_back(r.first);
         }
-        g.bvhNodes = joinWide(trees, treeFirst, source, g.bvhStats);
-        g.bvhStats.parts = uint32_t(partRanges.size());
-        g.bvhStats.partsReused = uint32_t(std::count_if(partRanges.begin(), partRanges.end(), [&](const PartRange& r) {
-            return r.part->builtBy != parts->packs;
-        }));
-        g.bvhStats.primitivesBuilt = bounded.size() + partsBuilt;
+        g.bvhNodes = joinWide(trees, treeFirst, order, g.bvhStats);
+        g.bvhStats.parts = uint32_t(gathered.partRanges.size());
+        g.bvhStats.partsReused =
+            uint32_t(std::count_if(gathered.partRanges.begin(), gathered.partRanges.end(),
+                                   [&](const PartRange& r) { return r.part->builtBy != parts->packs; }));
+        g.bvhStats.primitivesBuilt = split.bounded.size() + gathered.partsBuilt;
     }
     if (parts) {
         std::erase_if(parts->entries, [](const auto& e) { return !e->used; });
@@ -482,10 +502,16 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
         throw std::runtime_error("the scene's BVH has " + std::to_string(g.bvhNodes.size()) +
                                  " nodes, more than the shader addresses (" + std::to_string(gpu::kBvhMaxNodes) + ")");
     g.bvhStats.buildSeconds =
-        partSeconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    // The primitives in place in their final order, without a second copy.
-    source.insert(source.end(), unbounded.begin(), unbounded.end());
-    g.primitives = std::move(primitives);
+        gathered.partSeconds + std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return order;
+}
+
+// The gathered primitives into g.primitives in their final order (the
+// BVH's leaves, then the list), moved in place without a second copy, with
+// their attributes and indices within their objects; the csg leaves after
+// every other primitive.
+void placePrimitives(GatheredPrimitives& gathered, std::vector<uint32_t> source, GpuScene& g) {
+    g.primitives = std::move(gathered.primitives);
     if (!g.attributes.empty()) {  // the same order as the primitives
         std::vector<uint32_t> sourceCopy = source;
         permuteInPlace(g.attributes, sourceCopy);
@@ -495,16 +521,20 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
         permuteInPlace(g.primitiveInObject, sourceCopy);
     }
     permuteInPlace(g.primitives, source);
-    // The csg leaves after every other primitive; each csg primitive's a.w
-    // becomes the index of its first leaf there.
+    // Each csg primitive's a.w becomes the index of its first leaf there.
     uint32_t leafBase = uint32_t(g.primitives.size());
     for (gpu::Primitive& p : g.primitives)
         if (p.shape == gpu::kShapeCsg) p.a.w = glm::uintBitsToFloat(leafBase + glm::floatBitsToUint(p.a.w));
-    g.primitives.insert(g.primitives.end(), csg.leaves.begin(), csg.leaves.end());
-    g.primitiveInObject.insert(g.primitiveInObject.end(), leafInObject.begin(), leafInObject.end());
-    g.csgNodes = std::move(csg.nodes);
-    g.lights = packShading(scene).lights;
+    g.primitives.insert(g.primitives.end(), gathered.csg.leaves.begin(), gathered.csg.leaves.end());
+    g.primitiveInObject.insert(g.primitiveInObject.end(), gathered.leafInObject.begin(), gathered.leafInObject.end());
+    g.csgNodes = std::move(gathered.csg.nodes);
+}
 
+// The frame's parameters: the camera, the image, the counts of what was
+// packed and the render's options. The BVH's leaves are the first
+// `treeCount` primitives, the list the `listCount` after them.
+void packFrameParams(const Scene& scene, const RenderSettings& settings, size_t treeCount, size_t listCount,
+                     GpuScene& g) {
     packCamera(scene.camera, g.width, g.height, g.params);
     g.params.ambientLight = glm::vec3(scene.ambientLight);
     g.params.width = uint32_t(g.width);
@@ -519,8 +549,36 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
     if (settings.auxiliary) g.params.options |= uint32_t(settings.aovBounces) << gpu::kOptionAovBouncesShift;
     g.params.seed = uint32_t(settings.seed);
     g.params.bvhNodeCount = uint32_t(g.bvhNodes.size());
-    g.params.firstListPrimitive = uint32_t(boundedCount);
-    g.params.listPrimitiveCount = uint32_t(unbounded.size());
+    g.params.firstListPrimitive = uint32_t(treeCount);
+    g.params.listPrimitiveCount = uint32_t(listCount);
+}
+
+}  // namespace
+
+// In steps: the materials, textures and lights; the objects' primitives;
+// the BVH over the bounded ones; the primitives in the BVH's order; the
+// frame's parameters.
+GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCache* parts) {
+    GpuScene g;
+    g.width = settings.width > 0 ? settings.width : scene.camera.width;
+    g.height = settings.height > 0 ? settings.height : scene.camera.height;
+    GpuShading shading = packShading(scene);
+    g.materials = std::move(shading.materials);
+    g.textures = std::move(shading.textures);
+    g.lights = std::move(shading.lights);
+
+    GatheredPrimitives gathered = gatherPrimitives(scene, settings, parts, g);
+    BoundedSplit split = splitBounded(gathered, settings.useBvh);
+    size_t treeCount = split.bounded.size() + gathered.partTriangles;
+    if (treeCount > gpu::kBvhMaxPrimitives)
+        throw std::runtime_error("the scene has " + std::to_string(treeCount) +
+                                 " bounded primitives, more than the shader's BVH addresses (" +
+                                 std::to_string(gpu::kBvhMaxPrimitives) + ")");
+    std::vector<Aabb>().swap(gathered.bounds);
+    std::vector<uint32_t> source = buildSceneBvh(split, gathered, parts, g);
+    source.insert(source.end(), split.unbounded.begin(), split.unbounded.end());
+    placePrimitives(gathered, std::move(source), g);
+    packFrameParams(scene, settings, treeCount, split.unbounded.size(), g);
     return g;
 }
 

@@ -302,82 +302,103 @@ Mesh readGltfPart(const Diagnostics& diag, const XMLElement* e, const Placement&
     return mesh;
 }
 
-// A model file (host/io/mesh_file.h), its path relative to the scene
-// file's folder. Degenerate triangles are dropped with one warning. With
-// part="material NAME" only the triangles of that material of the file
-// (a glTF file's part="mesh M primitive P": readGltfPart).
-Mesh readMeshFile(const Diagnostics& diag, const XMLElement* e, const Placement& placement,
-                  const std::filesystem::path& sceneFolder, FileMaterials& fileMaterials, ModelFiles& files) {
+// What a <file> element names: the model file (its path relative to the
+// scene file's folder), the name errors give it, and the part, if any.
+struct FileReference {
+    std::filesystem::path path;
+    std::string name;
+    std::string part;
+};
+
+FileReference readFileReference(const Diagnostics& diag, const XMLElement* e,
+                                const std::filesystem::path& sceneFolder) {
     std::string written = valueText(diag, e, "part");
     if (written.empty()) diag.fail(e, "<file> is empty; expected the path of a model file");
-    std::filesystem::path path(written);
-    if (path.is_relative()) path = sceneFolder / path;
-    std::string name = "mesh file \"" + written + "\"";
+    FileReference ref{written, "mesh file \"" + written + "\"", ""};
+    if (ref.path.is_relative()) ref.path = sceneFolder / ref.path;
     const char* partAttribute = e->Attribute("part");
-    const std::string part = partAttribute ? trimmed(partAttribute) : "";
-    if (partAttribute && part.empty()) diag.fail(e, "<file>'s part is empty; leave it out for the whole file");
-    if (!part.empty() && isGltfFile(path))
-        return readGltfPart(diag, e, placement, path, part, name, fileMaterials, files);
+    ref.part = partAttribute ? trimmed(partAttribute) : "";
+    if (partAttribute && ref.part.empty()) diag.fail(e, "<file>'s part is empty; leave it out for the whole file");
+    return ref;
+}
 
+// A model file as read (host/io/mesh_file.h), and the MTL materials that
+// apply to it.
+struct ReadModelFile {
+    std::shared_ptr<const MeshFileData> data;
     // An OBJ file with MTL libraries whose materials apply: mapped by
     // whitted's MTL reader, as `whitted render FILE.obj` maps them (Assimp
     // 5.2 keeps only illum 0-2 and refuses Windows texture paths).
+    bool withMtl = false;
     std::map<std::string, Material> mtl;
+    bool tangents = false;  // read with tangents: a normal map may apply, the scene's or the file's
+};
+
+ReadModelFile readModelFile(const Diagnostics& diag, const XMLElement* e, const FileReference& ref,
+                            const FileMaterials& fileMaterials, ModelFiles& files) {
+    ReadModelFile out;
     bool mtlNormalMaps = false;
-    const bool withMtl = fileMaterials.wanted && !objMaterialLibraries(path).empty();
-    if (withMtl) {
+    out.withMtl = fileMaterials.wanted && !objMaterialLibraries(ref.path).empty();
+    if (out.withMtl) {
         std::vector<std::string> warnings;
-        mtl = objMtlMaterials(path, warnings, mtlNormalMaps);
+        out.mtl = objMtlMaterials(ref.path, warnings, mtlNormalMaps);
         for (const std::string& w : warnings) diag.warn(e, w);
     }
-    // Tangents where a normal map may apply: the scene's or the file's.
     const XMLElement* properties = e->Parent()->ToElement();
-    const bool tangents = withMtl ? mtlNormalMaps || properties->FirstChildElement("normal_map")
-                                  : fileMaterials.wanted || properties->FirstChildElement("normal_map");
-    const MeshFileMaterials mode = withMtl || (!part.empty() && !fileMaterials.wanted) ? MeshFileMaterials::Names
-                                   : fileMaterials.wanted                             ? MeshFileMaterials::Read
-                                                                                      : MeshFileMaterials::Ignore;
-    std::shared_ptr<const MeshFileData> read;
+    out.tangents = out.withMtl ? mtlNormalMaps || properties->FirstChildElement("normal_map")
+                               : fileMaterials.wanted || properties->FirstChildElement("normal_map");
+    const MeshFileMaterials mode = out.withMtl || (!ref.part.empty() && !fileMaterials.wanted)
+                                       ? MeshFileMaterials::Names
+                                   : fileMaterials.wanted ? MeshFileMaterials::Read
+                                                          : MeshFileMaterials::Ignore;
     try {
-        if (part.empty()) {
-            read = std::make_shared<const MeshFileData>(whitted::readMeshFile(path, mode, tangents));
+        if (ref.part.empty()) {
+            out.data = std::make_shared<const MeshFileData>(readMeshFile(ref.path, mode, out.tangents));
         } else {  // one file, many parts: read once
             std::shared_ptr<const MeshFileData>& cached =
-                files.meshes[{std::filesystem::absolute(path).lexically_normal(), mode, tangents}];
-            if (!cached) cached = std::make_shared<const MeshFileData>(whitted::readMeshFile(path, mode, tangents));
-            read = cached;
+                files.meshes[{std::filesystem::absolute(ref.path).lexically_normal(), mode, out.tangents}];
+            if (!cached) cached = std::make_shared<const MeshFileData>(readMeshFile(ref.path, mode, out.tangents));
+            out.data = cached;
         }
     } catch (const MeshFileError& error) {
-        diag.fail(e, name + " " + error.what());
+        diag.fail(e, ref.name + " " + error.what());
     }
-    const MeshFileData& data = *read;
+    return out;
+}
 
-    // part="material NAME": the triangles of the one material of that name.
-    std::optional<uint32_t> partMaterial;
-    if (!part.empty()) {
-        if (part.rfind("material ", 0) != 0)
-            diag.fail(e, name + ": part \"" + part +
-                             "\" names no part; expected part=\"material NAME\" (glTF files: \"mesh M primitive P\")");
-        std::string wanted = trimmed(part.substr(9));
-        std::string names;
-        for (uint32_t k = 0; k < data.materialNames.size(); ++k) {
-            if (data.materialNames[k].empty()) continue;
-            if (data.materialNames[k] == wanted) {
-                if (partMaterial) diag.fail(e, name + ": part \"" + part + "\": two materials of the file have that name");
-                partMaterial = k;
-            }
-            names += (names.empty() ? "\"" : ", \"") + data.materialNames[k] + "\"";
+// part="material NAME": the index of the file's one material of that name.
+uint32_t partMaterial(const Diagnostics& diag, const XMLElement* e, const FileReference& ref,
+                      const MeshFileData& data) {
+    if (ref.part.rfind("material ", 0) != 0)
+        diag.fail(e, ref.name + ": part \"" + ref.part +
+                         "\" names no part; expected part=\"material NAME\" (glTF files: \"mesh M primitive P\")");
+    std::string wanted = trimmed(ref.part.substr(9));
+    std::string names;
+    std::optional<uint32_t> found;
+    for (uint32_t k = 0; k < data.materialNames.size(); ++k) {
+        if (data.materialNames[k].empty()) continue;
+        if (data.materialNames[k] == wanted) {
+            if (found) diag.fail(e, ref.name + ": part \"" + ref.part + "\": two materials of the file have that name");
+            found = k;
         }
-        if (!partMaterial)
-            diag.fail(e, name + ": part \"" + part + "\": the file has no material \"" + wanted + "\"" +
-                             (names.empty() ? std::string(" (it has no named materials)") : " (it has " + names + ")"));
+        names += (names.empty() ? "\"" : ", \"") + data.materialNames[k] + "\"";
     }
-    // A part keeps texture coordinates (and tangents) only where a texture
-    // applies, as the OBJ/MTL scene does; the whole file always.
-    const bool keepUvs = part.empty() || fileMaterials.wanted || tangents || namesTexture(properties);
+    if (!found)
+        diag.fail(e, ref.name + ": part \"" + ref.part + "\": the file has no material \"" + wanted + "\"" +
+                         (names.empty() ? std::string(" (it has no named materials)") : " (it has " + names + ")"));
+    return *found;
+}
 
+// The file's triangles (of the one material, with a part) placed in the
+// scene, with their normals, texture coordinates and tangents; degenerate
+// ones dropped and counted in `skipped`. Each triangle's file material goes
+// into fileMaterials where they are wanted.
+Mesh placeFileTriangles(const Diagnostics& diag, const XMLElement* e, const std::string& name,
+                        const ReadModelFile& read, const Placement& placement,
+                        std::optional<uint32_t> partMaterial, bool keepUvs, FileMaterials& fileMaterials,
+                        size_t& skipped) {
+    const MeshFileData& data = *read.data;
     Mesh mesh;
-    size_t skipped = 0;
     for (size_t i = 0; i < data.triangles.size(); ++i) {
         if (partMaterial && data.triangleMaterials[i] != *partMaterial) continue;
         const auto& v = data.triangles[i];
@@ -401,7 +422,7 @@ Mesh readMeshFile(const Diagnostics& diag, const XMLElement* e, const Placement&
                 return glm::length(w) > 0 ? glm::normalize(w) : w;
             };
             mesh.tangents.push_back({place(t[order[0]]), place(t[order[1]]), place(t[order[2]])});
-        } else if (partMaterial && tangents && uvs) {
+        } else if (partMaterial && read.tangents && uvs) {
             mesh.tangents.push_back({});  // as the OBJ/MTL scene: none computed
         }
         if (!data.triangleMaterials.empty() && fileMaterials.wanted)
@@ -412,22 +433,49 @@ Mesh readMeshFile(const Diagnostics& diag, const XMLElement* e, const Placement&
                 {placement.normal(n[order[0]]), placement.normal(n[order[1]]), placement.normal(n[order[2]])});
         }
     }
-    if (mesh.triangles.empty()) diag.fail(e, "every triangle in " + name + " is degenerate");
-    mesh.source = Mesh::FileSource{std::filesystem::absolute(path).lexically_normal(), placement.position,
-                                   placement.scale, placement.rotationDegrees, -1, part, placement.matrix};
-    if (fileMaterials.wanted && !data.triangleMaterials.empty()) {
-        fileMaterials.materials = data.materials;
-        fileMaterials.names = data.materialNames;
-        if (withMtl)
-            for (const std::string& n : data.materialNames) {
-                auto it = mtl.find(n);
-                Material m;
-                m.ambient = 0.1;  // a material the libraries lack: white, as the OBJ/MTL scene has it
-                fileMaterials.authored.push_back(it != mtl.end() ? it->second : m);
-            }
-    }
+    return mesh;
+}
+
+// The file's materials, for the object's split into one object per
+// material (splitByFileMaterial); with MTL libraries, each one's whole.
+void keepFileMaterials(const ReadModelFile& read, FileMaterials& fileMaterials) {
+    const MeshFileData& data = *read.data;
+    if (!fileMaterials.wanted || data.triangleMaterials.empty()) return;
+    fileMaterials.materials = data.materials;
+    fileMaterials.names = data.materialNames;
+    if (read.withMtl)
+        for (const std::string& n : data.materialNames) {
+            auto it = read.mtl.find(n);
+            Material m;
+            m.ambient = 0.1;  // a material the libraries lack: white, as the OBJ/MTL scene has it
+            fileMaterials.authored.push_back(it != read.mtl.end() ? it->second : m);
+        }
+}
+
+// A <file> element's mesh: a model file (host/io/mesh_file.h) placed in the
+// scene. Degenerate triangles are dropped with one warning. With
+// part="material NAME" only the triangles of that material of the file
+// (a glTF file's part="mesh M primitive P": readGltfPart).
+Mesh meshFromFileElement(const Diagnostics& diag, const XMLElement* e, const Placement& placement,
+                         const std::filesystem::path& sceneFolder, FileMaterials& fileMaterials, ModelFiles& files) {
+    const FileReference ref = readFileReference(diag, e, sceneFolder);
+    if (!ref.part.empty() && isGltfFile(ref.path))
+        return readGltfPart(diag, e, placement, ref.path, ref.part, ref.name, fileMaterials, files);
+    const ReadModelFile read = readModelFile(diag, e, ref, fileMaterials, files);
+    std::optional<uint32_t> material;
+    if (!ref.part.empty()) material = partMaterial(diag, e, ref, *read.data);
+    // A part keeps texture coordinates (and tangents) only where a texture
+    // applies, as the OBJ/MTL scene does; the whole file always.
+    const bool keepUvs =
+        ref.part.empty() || fileMaterials.wanted || read.tangents || namesTexture(e->Parent()->ToElement());
+    size_t skipped = 0;
+    Mesh mesh = placeFileTriangles(diag, e, ref.name, read, placement, material, keepUvs, fileMaterials, skipped);
+    if (mesh.triangles.empty()) diag.fail(e, "every triangle in " + ref.name + " is degenerate");
+    mesh.source = Mesh::FileSource{std::filesystem::absolute(ref.path).lexically_normal(), placement.position,
+                                   placement.scale, placement.rotationDegrees, -1, ref.part, placement.matrix};
+    keepFileMaterials(read, fileMaterials);
     if (skipped > 0)
-        diag.warn(e, name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
+        diag.warn(e, ref.name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
                          " skipped");
     return mesh;
 }
@@ -459,7 +507,7 @@ Mesh readMeshObject(const Diagnostics& diag, ElementReader& object, ElementReade
         diag.fail(object.element(), "<object> is missing <polygons> or <file> (required for type mesh)");
     Placement placement = readPlacement(diag, properties, position);
     return polygons ? readMesh(diag, polygons, placement)
-                    : readMeshFile(diag, file, placement, sceneFolder, fileMaterials, modelFiles);
+                    : meshFromFileElement(diag, file, placement, sceneFolder, fileMaterials, modelFiles);
 }
 
 std::vector<Object> splitByFileMaterial(Object whole, const FileMaterials& fileMaterials) {

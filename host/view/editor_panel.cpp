@@ -91,23 +91,8 @@ static void syncModelParts(Scene& scene, int object, const glm::dvec3& moved) {
     }
 }
 
-EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
-    EditorResult result;
-    if (!state.visible) return result;
-    const ImGuiViewport* vp = ImGui::GetMainViewport();
-    // Anchored to the top right corner, sized to what it shows.
-    ImGui::SetNextWindowPos(ImVec2(vp->Size.x - 8, 8), ImGuiCond_Always, ImVec2(1, 0));
-    ImGui::SetNextWindowBgAlpha(0.85f);
-    // No taller than the window: a long list of fields scrolls instead.
-    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(vp->Size.x, std::max(vp->Size.y - 16, 64.0f)));
-    if (!ImGui::Begin("Scene (F1 hides)", &state.visible, ImGuiWindowFlags_AlwaysAutoResize)) {
-        ImGui::End();
-        return result;
-    }
-    if (ImGui::Button("Save")) result.saveRequested = true;
-    ImGui::SameLine();
-    ImGui::TextDisabled("writes the scene file");
-
+// The lists of lights and objects: a click selects one of them.
+static void drawSelectionLists(const Scene& scene, EditorState& state) {
     if (ImGui::CollapsingHeader("Lights", ImGuiTreeNodeFlags_DefaultOpen))
         for (int i = 0; i < int(scene.lights.size()); ++i) {
             char label[32];
@@ -134,167 +119,217 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
                 state.selectedLight = -1;
             }
         }
+}
+
+// The selected light's fields. Returns whether one changed.
+static bool editLight(Light& l, int index) {
+    bool changed = false;
+    ImGui::Text("light %d", index);
+    // The light's type and what it uses (scenes/README.md "Lights"); the
+    // ranges are the loader's, so that Save writes a loadable file.
+    int type = int(l.type);
+    if (ImGui::Combo("type", &type, "point\0spot\0directional\0rect\0")) {
+        l.type = Light::Type(type);
+        changed = true;
+    }
+    if (l.type != Light::Type::Directional) changed |= editVector("position", l.position, 0.02f);
+    changed |= editColour("colour", l.color, true);
+    float intensity = float(l.intensity);
+    if (ImGui::DragFloat("intensity", &intensity, 0.01f, 0.0f, 1e5f)) {
+        l.intensity = std::max(double(intensity), 0.0);
+        changed = true;
+    }
+    if (l.type != Light::Type::Directional) {
+        bool inverseSquare = l.falloff == Light::Falloff::InverseSquare;
+        if (ImGui::Checkbox("inverse-square falloff", &inverseSquare)) {
+            l.falloff = inverseSquare ? Light::Falloff::InverseSquare : Light::Falloff::None;
+            changed = true;
+        }
+    }
+    if (l.type == Light::Type::Spot || l.type == Light::Type::Directional) {
+        glm::dvec3 d = l.direction;
+        if (editVector("direction", d, 0.01f) && glm::length(d) > 1e-6) {
+            l.direction = glm::normalize(d);
+            changed = true;
+        }
+    }
+    if (l.type == Light::Type::Spot) {
+        changed |= editScalar("inner angle", l.innerAngleDegrees, 0, 89.9);
+        changed |= editScalar("outer angle", l.outerAngleDegrees, 0.1, 90);
+        // 0 <= inner < outer <= 90: the outer angle gives way.
+        if (l.outerAngleDegrees <= l.innerAngleDegrees)
+            l.outerAngleDegrees = std::min(l.innerAngleDegrees + 0.1, 90.0);
+    }
+    // An area light (scenes/README.md "Area lights"): a sphere's radius,
+    // a rectangle's edges (kept spanning an area) and faces, the shadow
+    // rays per camera sample.
+    if (l.type == Light::Type::Point || l.type == Light::Type::Spot)
+        changed |= editScalar("radius", l.radius, 0, 10);
+    if (l.type == Light::Type::Rect) {
+        glm::dvec3 u = l.u, v = l.v;
+        if (editVector("edge u", u, 0.01f) && rectEdgesSpan(u, l.v)) {
+            l.u = u;
+            changed = true;
+        }
+        if (editVector("edge v", v, 0.01f) && rectEdgesSpan(l.u, v)) {
+            l.v = v;
+            changed = true;
+        }
+        if (ImGui::Checkbox("two-sided", &l.twoSided)) changed = true;
+    }
+    if (l.area() && ImGui::SliderInt("shadow samples", &l.shadowSamples, 1, kMaxShadowSamples)) {
+        l.shadowSamples = std::clamp(l.shadowSamples, 1, kMaxShadowSamples);
+        changed = true;
+    }
+    return changed;
+}
+
+// The selected object's placement and the fields of its shape. Returns
+// whether one changed.
+static bool editShape(Object& o) {
+    bool changed = false;
+    glm::dvec3 p = shapeReferencePoint(o.shape);
+    if (editVector("position", p, 0.02f)) {
+        o.material.checkerOrigin += p - shapeReferencePoint(o.shape);  // the checker moves with the object
+        translateShape(o.shape, p - shapeReferencePoint(o.shape));
+        changed = true;
+    }
+    if (auto* sphere = std::get_if<Sphere>(&o.shape)) {
+        float r = float(sphere->radius);
+        if (ImGui::DragFloat("radius", &r, 0.01f, 1e-3f, 1e3f)) {
+            sphere->radius = std::max(double(r), 1e-3);
+            changed = true;
+        }
+    }
+    if (auto* csg = std::get_if<Csg>(&o.shape)) {
+        // The csg object's operation (scenes/README.md "CSG").
+        int op = int(csg->operation);
+        if (ImGui::Combo("operation", &op, "union\0intersection\0difference\0")) {
+            csg->operation = Csg::Operation(op);
+            changed = true;
+        }
+    }
+    return changed;
+}
+
+// The selected object's material. Returns whether a field changed.
+static bool editMaterial(Object& o) {
+    bool changed = false;
+    Material& m = o.material;
+    const Mesh* mesh = std::get_if<Mesh>(&o.shape);
+    bool filePart = mesh && mesh->source && mesh->source->part >= 0;
+    if (filePart)  // the model file's colour, per part: not saved, so not edited
+        ImGui::TextDisabled("diffuse colour: the model file's");
+    else
+        changed |= editColour("diffuse colour", m.diffuseColor, false);
+    changed |= editColour("specular colour", m.specularColor, false);
+    changed |= editScalar("ambient ka", m.ambient, 0, 1);
+    changed |= editScalar("diffuse kd", m.diffuse, 0, 1);
+    changed |= editScalar("specular ks", m.specular, 0, 1);
+    changed |= editScalar("shininess", m.shininess, 1, 1000);
+    changed |= editScalar("reflection kr", m.reflection, 0, 1);
+    changed |= editScalar("transmission kt", m.transmission, 0, 1);
+    changed |= editScalar("IOR (refraction_coef)", m.ior, 1, 3);
+    changed |= editScalar("roughness", m.roughness, 0, 1);
+    // The checker (<checker_color>, <checker_size>): switched on, size
+    // 1 from checkerAnchor; switched off, size 0.
+    bool checker = m.checkerSize > 0;
+    if (ImGui::Checkbox("checker", &checker)) {
+        if (checker) {
+            m.checkerSize = 1.0;
+            m.checkerOrigin = checkerAnchor(o.shape);
+        } else {
+            m.checkerSize = 0.0;
+        }
+        changed = true;
+    }
+    if (m.checkerSize > 0) {
+        changed |= editColour("checker colour", m.checkerColor, false);
+        float size = float(m.checkerSize);
+        if (ImGui::DragFloat("checker size", &size, 0.01f, 1e-3f, 1e3f)) {
+            m.checkerSize = std::max(double(size), 1e-3);
+            changed = true;
+        }
+    }
+    // Beer-Lambert sigma per unit length (<absorption>): any value >= 0.
+    changed |= editColour("absorption", m.absorption, true);
+    // The additions for authored scenes (scenes/README.md "Materials").
+    if (ImGui::Checkbox("fresnel (kr is F0)", &m.fresnel)) changed = true;
+    changed |= editColour("transmission colour", m.transmissionColor, false);
+    changed |= editColour("emission", m.emission, true);
+    bool ambientColour = m.ambientColor.has_value();
+    if (ImGui::Checkbox("own ambient colour", &ambientColour)) {
+        m.ambientColor = ambientColour ? std::optional<glm::dvec3>(m.diffuseColor) : std::nullopt;
+        changed = true;
+    }
+    if (m.ambientColor) changed |= editColour("ambient colour", *m.ambientColor, false);
+    // Texture controls (scenes/README.md "Textures"): a plane's repeat length, a
+    // normal map's strength.
+    if (std::holds_alternative<Plane>(o.shape) && m.textured()) {
+        float scale = float(m.textureScale);
+        if (ImGui::DragFloat("texture scale", &scale, 0.01f, 1e-3f, 1e3f)) {
+            m.textureScale = std::max(double(scale), 1e-3);
+            changed = true;
+        }
+    }
+    if (m.normalMap) changed |= editScalar("normal strength", m.normalStrength, 0, 4);
+    return changed;
+}
+
+// The selected object: its shape, then its material; an edit reaches the
+// other parts of the same model file. Returns whether a field changed.
+static bool editObject(Scene& scene, int index) {
+    Object& o = scene.objects[index];
+    ImGui::Text("object %d: %s", index, shapeName(o.shape));
+    if (!o.name.empty()) ImGui::TextUnformatted(o.name.c_str());
+    const glm::dvec3 before = shapeReferencePoint(o.shape);
+    bool changed = editShape(o);
+    changed |= editMaterial(o);
+    if (changed) syncModelParts(scene, index, shapeReferencePoint(o.shape) - before);
+    return changed;
+}
+
+// The camera's thin lens (scenes/README.md "Depth of field"): aperture 0 is a
+// pinhole; the focus distance, once edited, no longer follows the window's
+// distance. Returns whether the lens changed.
+static bool editCameraLens(Camera& c) {
+    bool changed = editScalar("aperture radius", c.apertureRadius, 0, 1);
+    double focus = c.focusDistanceOrDefault();
+    if (editScalar("focus distance", focus, 0.01, 100)) {
+        c.focusDistance = focus;
+        changed = true;
+    }
+    return changed;
+}
+
+EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
+    EditorResult result;
+    if (!state.visible) return result;
+    const ImGuiViewport* vp = ImGui::GetMainViewport();
+    // Anchored to the top right corner, sized to what it shows.
+    ImGui::SetNextWindowPos(ImVec2(vp->Size.x - 8, 8), ImGuiCond_Always, ImVec2(1, 0));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    // No taller than the window: a long list of fields scrolls instead.
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0, 0), ImVec2(vp->Size.x, std::max(vp->Size.y - 16, 64.0f)));
+    if (!ImGui::Begin("Scene (F1 hides)", &state.visible, ImGuiWindowFlags_AlwaysAutoResize)) {
+        ImGui::End();
+        return result;
+    }
+    if (ImGui::Button("Save")) result.saveRequested = true;
+    ImGui::SameLine();
+    ImGui::TextDisabled("writes the scene file");
+    drawSelectionLists(scene, state);
 
     ImGui::Separator();
-    if (state.selectedLight >= 0 && state.selectedLight < int(scene.lights.size())) {
-        Light& l = scene.lights[state.selectedLight];
-        ImGui::Text("light %d", state.selectedLight);
-        // The light's type and what it uses (scenes/README.md "Lights"); the
-        // ranges are the loader's, so that Save writes a loadable file.
-        int type = int(l.type);
-        if (ImGui::Combo("type", &type, "point\0spot\0directional\0rect\0")) {
-            l.type = Light::Type(type);
-            result.changed = true;
-        }
-        if (l.type != Light::Type::Directional) result.changed |= editVector("position", l.position, 0.02f);
-        result.changed |= editColour("colour", l.color, true);
-        float intensity = float(l.intensity);
-        if (ImGui::DragFloat("intensity", &intensity, 0.01f, 0.0f, 1e5f)) {
-            l.intensity = std::max(double(intensity), 0.0);
-            result.changed = true;
-        }
-        if (l.type != Light::Type::Directional) {
-            bool inverseSquare = l.falloff == Light::Falloff::InverseSquare;
-            if (ImGui::Checkbox("inverse-square falloff", &inverseSquare)) {
-                l.falloff = inverseSquare ? Light::Falloff::InverseSquare : Light::Falloff::None;
-                result.changed = true;
-            }
-        }
-        if (l.type == Light::Type::Spot || l.type == Light::Type::Directional) {
-            glm::dvec3 d = l.direction;
-            if (editVector("direction", d, 0.01f) && glm::length(d) > 1e-6) {
-                l.direction = glm::normalize(d);
-                result.changed = true;
-            }
-        }
-        if (l.type == Light::Type::Spot) {
-            result.changed |= editScalar("inner angle", l.innerAngleDegrees, 0, 89.9);
-            result.changed |= editScalar("outer angle", l.outerAngleDegrees, 0.1, 90);
-            // 0 <= inner < outer <= 90: the outer angle gives way.
-            if (l.outerAngleDegrees <= l.innerAngleDegrees)
-                l.outerAngleDegrees = std::min(l.innerAngleDegrees + 0.1, 90.0);
-        }
-        // An area light (scenes/README.md "Area lights"): a sphere's radius,
-        // a rectangle's edges (kept spanning an area) and faces, the shadow
-        // rays per camera sample.
-        if (l.type == Light::Type::Point || l.type == Light::Type::Spot)
-            result.changed |= editScalar("radius", l.radius, 0, 10);
-        if (l.type == Light::Type::Rect) {
-            glm::dvec3 u = l.u, v = l.v;
-            if (editVector("edge u", u, 0.01f) && rectEdgesSpan(u, l.v)) {
-                l.u = u;
-                result.changed = true;
-            }
-            if (editVector("edge v", v, 0.01f) && rectEdgesSpan(l.u, v)) {
-                l.v = v;
-                result.changed = true;
-            }
-            if (ImGui::Checkbox("two-sided", &l.twoSided)) result.changed = true;
-        }
-        if (l.area() && ImGui::SliderInt("shadow samples", &l.shadowSamples, 1, kMaxShadowSamples)) {
-            l.shadowSamples = std::clamp(l.shadowSamples, 1, kMaxShadowSamples);
-            result.changed = true;
-        }
-    } else if (state.selectedObject >= 0 && state.selectedObject < int(scene.objects.size())) {
-        Object& o = scene.objects[state.selectedObject];
-        Material& m = o.material;
-        ImGui::Text("object %d: %s", state.selectedObject, shapeName(o.shape));
-        if (!o.name.empty()) ImGui::TextUnformatted(o.name.c_str());
-        const glm::dvec3 before = shapeReferencePoint(o.shape);
-        const Mesh* mesh = std::get_if<Mesh>(&o.shape);
-        bool filePart = mesh && mesh->source && mesh->source->part >= 0;
-        glm::dvec3 p = before;
-        if (editVector("position", p, 0.02f)) {
-            m.checkerOrigin += p - shapeReferencePoint(o.shape);  // the checker moves with the object
-            translateShape(o.shape, p - shapeReferencePoint(o.shape));
-            result.changed = true;
-        }
-        if (auto* sphere = std::get_if<Sphere>(&o.shape)) {
-            float r = float(sphere->radius);
-            if (ImGui::DragFloat("radius", &r, 0.01f, 1e-3f, 1e3f)) {
-                sphere->radius = std::max(double(r), 1e-3);
-                result.changed = true;
-            }
-        }
-        if (auto* csg = std::get_if<Csg>(&o.shape)) {
-            // The csg object's operation (scenes/README.md "CSG").
-            int op = int(csg->operation);
-            if (ImGui::Combo("operation", &op, "union\0intersection\0difference\0")) {
-                csg->operation = Csg::Operation(op);
-                result.changed = true;
-            }
-        }
-        if (filePart)  // the model file's colour, per part: not saved, so not edited
-            ImGui::TextDisabled("diffuse colour: the model file's");
-        else
-            result.changed |= editColour("diffuse colour", m.diffuseColor, false);
-        result.changed |= editColour("specular colour", m.specularColor, false);
-        result.changed |= editScalar("ambient ka", m.ambient, 0, 1);
-        result.changed |= editScalar("diffuse kd", m.diffuse, 0, 1);
-        result.changed |= editScalar("specular ks", m.specular, 0, 1);
-        result.changed |= editScalar("shininess", m.shininess, 1, 1000);
-        result.changed |= editScalar("reflection kr", m.reflection, 0, 1);
-        result.changed |= editScalar("transmission kt", m.transmission, 0, 1);
-        result.changed |= editScalar("IOR (refraction_coef)", m.ior, 1, 3);
-        result.changed |= editScalar("roughness", m.roughness, 0, 1);
-        // The checker (<checker_color>, <checker_size>): switched on, size
-        // 1 from checkerAnchor; switched off, size 0.
-        bool checker = m.checkerSize > 0;
-        if (ImGui::Checkbox("checker", &checker)) {
-            if (checker) {
-                m.checkerSize = 1.0;
-                m.checkerOrigin = checkerAnchor(o.shape);
-            } else {
-                m.checkerSize = 0.0;
-            }
-            result.changed = true;
-        }
-        if (m.checkerSize > 0) {
-            result.changed |= editColour("checker colour", m.checkerColor, false);
-            float size = float(m.checkerSize);
-            if (ImGui::DragFloat("checker size", &size, 0.01f, 1e-3f, 1e3f)) {
-                m.checkerSize = std::max(double(size), 1e-3);
-                result.changed = true;
-            }
-        }
-        // Beer-Lambert sigma per unit length (<absorption>): any value >= 0.
-        result.changed |= editColour("absorption", m.absorption, true);
-        // The additions for authored scenes (scenes/README.md "Materials").
-        if (ImGui::Checkbox("fresnel (kr is F0)", &m.fresnel)) result.changed = true;
-        result.changed |= editColour("transmission colour", m.transmissionColor, false);
-        result.changed |= editColour("emission", m.emission, true);
-        bool ambientColour = m.ambientColor.has_value();
-        if (ImGui::Checkbox("own ambient colour", &ambientColour)) {
-            m.ambientColor = ambientColour ? std::optional<glm::dvec3>(m.diffuseColor) : std::nullopt;
-            result.changed = true;
-        }
-        if (m.ambientColor) result.changed |= editColour("ambient colour", *m.ambientColor, false);
-        // Texture controls (scenes/README.md "Textures"): a plane's repeat length, a
-        // normal map's strength.
-        if (std::holds_alternative<Plane>(o.shape) && m.textured()) {
-            float scale = float(m.textureScale);
-            if (ImGui::DragFloat("texture scale", &scale, 0.01f, 1e-3f, 1e3f)) {
-                m.textureScale = std::max(double(scale), 1e-3);
-                result.changed = true;
-            }
-        }
-        if (m.normalMap) result.changed |= editScalar("normal strength", m.normalStrength, 0, 4);
-        if (result.changed) syncModelParts(scene, state.selectedObject, shapeReferencePoint(o.shape) - before);
-    } else {
+    if (state.selectedLight >= 0 && state.selectedLight < int(scene.lights.size()))
+        result.changed = editLight(scene.lights[state.selectedLight], state.selectedLight);
+    else if (state.selectedObject >= 0 && state.selectedObject < int(scene.objects.size()))
+        result.changed = editObject(scene, state.selectedObject);
+    else
         ImGui::TextDisabled("select a light or an object");
-    }
-    // The camera's thin lens (scenes/README.md "Depth of field"), last so that it moves nothing above: aperture
-    // 0 is a pinhole; the focus distance, once edited, no longer follows the window's distance.
+    // The camera's lens last, so that it moves nothing above.
     ImGui::Separator();
-    if (ImGui::CollapsingHeader("Camera lens")) {
-        Camera& c = scene.camera;
-        result.lensChanged |= editScalar("aperture radius", c.apertureRadius, 0, 1);
-        double focus = c.focusDistanceOrDefault();
-        if (editScalar("focus distance", focus, 0.01, 100)) {
-            c.focusDistance = focus;
-            result.lensChanged = true;
-        }
-    }
+    if (ImGui::CollapsingHeader("Camera lens")) result.lensChanged = editCameraLens(scene.camera);
     ImGui::End();
     return result;
 }

@@ -1,4 +1,4 @@
-#include "scene/povray_export.h"
+#include "povray/povray_export.h"
 
 #include "io/texture.h"
 
