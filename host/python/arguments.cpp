@@ -30,15 +30,16 @@ glm::dvec3 unit(const std::string& field, const glm::dvec3& v) {
     return glm::normalize(f);
 }
 
+std::string typeName(const py::handle& x) { return py::type::handle_of(x).attr("__name__").cast<std::string>(); }
+
 glm::dvec3 toVec(const py::handle& h, const std::string& field) {
-    py::sequence s;
-    try {
-        s = h.cast<py::sequence>();
-    } catch (const py::cast_error&) {
-        refuse(field, "3 numbers", py::repr(h).cast<std::string>());
-    }
+    if (!py::isinstance<py::sequence>(h) || py::isinstance<py::str>(h) || py::isinstance<py::bytes>(h))
+        throw py::type_error(field + ": expected 3 numbers, got " + typeName(h));
+    auto s = py::reinterpret_borrow<py::sequence>(h);
     if (py::len(s) != 3) refuse(field, "3 numbers", py::repr(h).cast<std::string>());
-    return {s[0].cast<double>(), s[1].cast<double>(), s[2].cast<double>()};
+    glm::dvec3 v;
+    for (int i = 0; i < 3; ++i) v[i] = typed<double>(s[i], field + "[" + std::to_string(i) + "]");
+    return v;
 }
 py::tuple toTuple(const glm::dvec3& v) { return py::make_tuple(v.x, v.y, v.z); }
 

@@ -13,6 +13,7 @@
 #include <pybind11/pybind11.h>
 
 #include <string>
+#include <type_traits>
 
 namespace whitted::python {
 
@@ -33,7 +34,40 @@ glm::dvec3 checked(const std::string& field, const glm::dvec3& v, const Range& r
 // A direction of any length but 0, made unit.
 glm::dvec3 unit(const std::string& field, const glm::dvec3& v);
 
-// Vectors and colours cross as tuples of three floats.
+// The name of a Python value's type, for messages: "str", "NoneType".
+std::string typeName(const py::handle& x);
+
+// A Python value as a T (double, long long, bool or std::string), converted
+// as pybind11 converts an argument of that type, or TypeError naming the
+// field: "Light.intensity: expected a number, got str".
+template <typename T>
+T typed(const py::handle& x, const std::string& field) {
+    py::detail::make_caster<T> caster;
+    if (!caster.load(x, true)) {
+        const char* expected = std::is_same_v<T, bool>         ? "True or False"
+                               : std::is_integral_v<T>         ? "an integer"
+                               : std::is_floating_point_v<T>   ? "a number"
+                                                               : "a string";
+        throw py::type_error(field + ": expected " + expected + ", got " + typeName(x));
+    }
+    return py::detail::cast_op<T>(std::move(caster));
+}
+
+// An argument or a property's new value as it came, for typed() to convert
+// with the field's name (pybind11's own TypeError names no field);
+// signatures show it as a T.
+template <typename T>
+struct Arg {
+    py::object value;
+    T get(const std::string& field) const { return typed<T>(value, field); }
+};
+template <typename T>
+double checked(const std::string& field, const Arg<T>& x, const Range& r) {
+    return checked(field, double(x.get(field)), r);
+}
+
+// Vectors and colours cross as tuples of three numbers (any sequence of
+// three but a string): TypeError for another type, ValueError for another length.
 glm::dvec3 toVec(const py::handle& h, const std::string& field);
 py::tuple toTuple(const glm::dvec3& v);
 
@@ -62,3 +96,16 @@ inline glm::dvec3 row3(const Rows& a, py::ssize_t i) { return {a.at(i, 0), a.at(
 glm::dmat4 transformMatrix(const py::object& x, const std::string& field);
 
 }  // namespace whitted::python
+
+namespace pybind11::detail {
+// Arg<T> takes any value; typed() converts it.
+template <typename T>
+struct type_caster<whitted::python::Arg<T>> {
+    PYBIND11_TYPE_CASTER(whitted::python::Arg<T>, make_caster<T>::name);
+    bool load(handle src, bool) {
+        value.value = reinterpret_borrow<object>(src);
+        return true;
+    }
+    static handle cast(const whitted::python::Arg<T>& a, return_value_policy, handle) { return a.value.inc_ref(); }
+};
+}  // namespace pybind11::detail

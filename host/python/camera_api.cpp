@@ -103,21 +103,21 @@ void addFrameFields(CameraClass& camera) {
             "the up direction (any length but 0)")
         .def_property(
             "fov", [](const CameraView& v) { return v.c().verticalFovDegrees; },
-            [](const CameraView& v, double x) {
+            [](const CameraView& v, Arg<double> x) {
                 v.c().verticalFovDegrees = checked("Camera.fov", x, kFovRange);
                 v.edited();
             },
             "vertical field of view in degrees")
         .def_property(
             "width", [](const CameraView& v) { return v.c().width; },
-            [](const CameraView& v, int x) {
+            [](const CameraView& v, Arg<long long> x) {
                 v.c().width = int(checked("Camera.width", x, kImageSide));
                 v.edited();
             },
             "image width in pixels (the render's default)")
         .def_property(
             "height", [](const CameraView& v) { return v.c().height; },
-            [](const CameraView& v, int x) {
+            [](const CameraView& v, Arg<long long> x) {
                 v.c().height = int(checked("Camera.height", x, kImageSide));
                 v.edited();
             },
@@ -132,7 +132,8 @@ void addLensFields(CameraClass& camera) {
             [](const CameraView& v) {
                 return std::string(v.c().projection == Camera::Projection::Orthographic ? "orthographic" : "perspective");
             },
-            [](const CameraView& v, const std::string& p) {
+            [](const CameraView& v, Arg<std::string> x) {
+                std::string p = x.get("Camera.projection");
                 if (p != "perspective" && p != "orthographic")
                     refuse("Camera.projection", "'perspective' or 'orthographic'", "'" + p + "'");
                 v.c().projection = p == "orthographic" ? Camera::Projection::Orthographic : Camera::Projection::Perspective;
@@ -141,14 +142,14 @@ void addLensFields(CameraClass& camera) {
             "'perspective' (fov) or 'orthographic' (window_height), as <projection>")
         .def_property(
             "window_height", [](const CameraView& v) { return v.c().windowHeight; },
-            [](const CameraView& v, double x) {
+            [](const CameraView& v, Arg<double> x) {
                 v.c().windowHeight = checked("Camera.window_height", x, xml::kPositive);
                 v.edited();
             },
             "an orthographic camera's window height in scene units (<window_height>)")
         .def_property(
             "aperture_radius", [](const CameraView& v) { return v.c().apertureRadius; },
-            [](const CameraView& v, double x) {
+            [](const CameraView& v, Arg<double> x) {
                 v.c().apertureRadius = checked("Camera.aperture_radius", x, xml::kNonNegative);
                 v.edited();
             },
@@ -158,7 +159,7 @@ void addLensFields(CameraClass& camera) {
             [](const CameraView& v, py::object x) {
                 if (x.is_none()) v.c().focusDistance.reset();
                 else if (!py::isinstance<py::float_>(x) && !py::isinstance<py::int_>(x))
-                    refuse("Camera.focus_distance", "a number or None", py::repr(x).cast<std::string>());
+                    throw py::type_error("Camera.focus_distance: expected a number or None, got " + typeName(x));
                 else v.c().focusDistance = checked("Camera.focus_distance", x.cast<double>(), xml::kPositive);
                 v.edited();
             },

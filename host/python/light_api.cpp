@@ -37,10 +37,10 @@ void setRectEdges(const std::string& field, Light& l, const glm::dvec3& u, const
     l.u = u;
     l.v = v;
 }
-void setShadowSamples(const std::string& prefix, Light& l, int samples) {
+void setShadowSamples(const std::string& prefix, Light& l, long long samples) {
     if (samples < 1 || samples > kMaxShadowSamples) refuse(prefix + ".shadow_samples", "in 1.." + std::to_string(kMaxShadowSamples), std::to_string(samples));
     if (samples != 1 && !l.area()) refuse(prefix + ".shadow_samples", "1 for a light without area (a point or spot light of radius 0, a directional light)", std::to_string(samples));
-    l.shadowSamples = samples;
+    l.shadowSamples = int(samples);
 }
 
 }  // namespace
@@ -75,8 +75,8 @@ Light buildLight(const py::object& position, const py::object& color, const std:
     if (l.type != Light::Type::Spot) {
         if (!inner.is_none() || !outer.is_none()) refuse(inner.is_none() ? "add_light.outer_angle" : "add_light.inner_angle", "None for a " + type + " light (only a spot light has a cone)", "a number");
     } else {
-        if (!inner.is_none()) l.innerAngleDegrees = checked("add_light.inner_angle", inner.cast<double>(), kInnerAngleRange);
-        if (!outer.is_none()) l.outerAngleDegrees = checked("add_light.outer_angle", outer.cast<double>(), kOuterAngleRange);
+        if (!inner.is_none()) l.innerAngleDegrees = checked("add_light.inner_angle", typed<double>(inner, "add_light.inner_angle"), kInnerAngleRange);
+        if (!outer.is_none()) l.outerAngleDegrees = checked("add_light.outer_angle", typed<double>(outer, "add_light.outer_angle"), kOuterAngleRange);
         if (!(l.innerAngleDegrees < l.outerAngleDegrees))
             refuse("add_light.outer_angle", "greater than inner_angle (" + shown(l.innerAngleDegrees) + ")", shown(l.outerAngleDegrees));
     }
@@ -119,21 +119,21 @@ void addLightApi(py::module_& m) {
             })
         .def_property(
             "intensity", [](const LightView& v) { return v.l().intensity; },
-            [](const LightView& v, double x) {
+            [](const LightView& v, Arg<double> x) {
                 v.l().intensity = checked("Light.intensity", x, xml::kNonNegative);
                 ++v.s->versions.lights;
             })
         .def_property(
             "radius", [](const LightView& v) { return v.l().radius; },
-            [](const LightView& v, double x) {
-                setRadius("Light", v.l(), x);
+            [](const LightView& v, Arg<double> x) {
+                setRadius("Light", v.l(), x.get("Light.radius"));
                 ++v.s->versions.lights;
             },
             "a point or spot light's sphere radius (0: a point)")
         .def_property(
             "shadow_samples", [](const LightView& v) { return v.l().shadowSamples; },
-            [](const LightView& v, int x) {
-                setShadowSamples("Light", v.l(), x);
+            [](const LightView& v, Arg<long long> x) {
+                setShadowSamples("Light", v.l(), x.get("Light.shadow_samples"));
                 ++v.s->versions.lights;
             },
             "an area light's shadow rays per camera sample")
@@ -153,7 +153,8 @@ void addLightApi(py::module_& m) {
             "a rect light's second full edge; it faces u x v")
         .def_property(
             "two_sided", [](const LightView& v) { return v.l().twoSided; },
-            [](const LightView& v, bool x) {
+            [](const LightView& v, Arg<bool> arg) {
+                bool x = arg.get("Light.two_sided");
                 if (v.l().type != Light::Type::Rect && x) refuse("Light.two_sided", "False for a " + std::string(lightTypeName(v.l().type)) + " light (only a rect light has faces)", "True");
                 v.l().twoSided = x;
                 ++v.s->versions.lights;

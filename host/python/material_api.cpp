@@ -37,7 +37,7 @@ void materialField(py::class_<View>& cls, const char* name, T Material::*member,
     if constexpr (std::is_same_v<T, double>)
         cls.def_property(
             name, [member](View& v) { return materialOf(v).*member; },
-            [member, name, range](View& v, double x) {
+            [member, name, range](View& v, Arg<double> x) {
                 materialOf(v).*member = checked(fieldOf(v, name), x, range);
                 materialEdited(v);
             },
@@ -75,8 +75,8 @@ void materialFields(py::class_<View>& cls) {
                   "glossy reflection and refraction in [0, 1] (<roughness>); 0: a mirror");
     cls.def_property(
         "fresnel", [](View& v) { return materialOf(v).fresnel; },
-        [](View& v, bool f) {
-            materialOf(v).fresnel = f;
+        [](View& v, Arg<bool> f) {
+            materialOf(v).fresnel = f.get(fieldOf(v, "fresnel"));
             materialEdited(v);
         },
         "reflection as Schlick's Fresnel term with kr as F0");
@@ -227,7 +227,8 @@ void addMaterialApi(py::module_& m) {
     material
         .def_property(
             "checker_size", [](const MaterialValue& v) { return v.m.checkerSize; },
-            [](MaterialValue& v, double x) {
+            [](MaterialValue& v, Arg<double> arg) {
+                double x = arg.get("Material.checker_size");
                 if (x != 0) checked("Material.checker_size", x, xml::kPositive);
                 v.m.checkerSize = x;
             },

@@ -66,9 +66,9 @@ void addPlacement(ObjectClass& object) {
                 if (const auto* c = std::get_if<Cylinder>(&v.o().shape)) return py::float_(c->radius);
                 return py::none();
             },
-            [](const ObjectView& v, double r) {
+            [](const ObjectView& v, Arg<double> x) {
                 Object& o = v.o();
-                r = checked("Object.radius", r, xml::kPositive);
+                double r = checked("Object.radius", x, xml::kPositive);
                 if (auto* s = std::get_if<Sphere>(&o.shape)) s->radius = r;
                 else if (auto* c = std::get_if<Cylinder>(&o.shape)) c->radius = r;
                 else throw py::attribute_error(std::string("a ") + shapeName(o.shape) + " has no radius");
@@ -83,7 +83,8 @@ void addPlacement(ObjectClass& object) {
                 const char* names[] = {"union", "intersection", "difference"};
                 return py::str(names[int(c->operation)]);
             },
-            [](const ObjectView& v, const std::string& op) {
+            [](const ObjectView& v, Arg<std::string> x) {
+                std::string op = x.get("Object.operation");
                 auto* c = std::get_if<Csg>(&v.o().shape);
                 if (!c) throw py::attribute_error(std::string("a ") + shapeName(v.o().shape) + " has no operation");
                 if (op == "union") c->operation = Csg::Operation::Union;
@@ -115,8 +116,9 @@ void addIdentity(ObjectClass& object) {
                                "line of its <object> in the scene file (0: none)")
         .def_property(
             "checker_size", [](const ObjectView& v) { return v.o().material.checkerSize; },
-            [](const ObjectView& v, double x) {
+            [](const ObjectView& v, Arg<double> arg) {
                 Object& o = v.o();
+                double x = arg.get("Object.checker_size");
                 if (x != 0) checked("Object.checker_size", x, xml::kPositive);
                 if (o.material.checkerSize == 0 && x > 0) o.material.checkerOrigin = checkerAnchor(o.shape);
                 o.material.checkerSize = x;

@@ -96,7 +96,7 @@ void refuseFilelessTextures(const Scene& scene, const std::string& call);
 const char* lightTypeName(Light::Type t);
 struct AreaArguments {
     double radius;
-    int shadowSamples;
+    long long shadowSamples;
     py::object u, v;
     bool twoSided;
 };

@@ -34,7 +34,7 @@ void addShapeBuilders(SceneClass& scene) {
     scene
         .def(
             "add_sphere",
-            [](const SceneRef& s, py::object center, double radius, py::object material, py::object name) {
+            [](const SceneRef& s, py::object center, Arg<double> radius, py::object material, py::object name) {
                 Sphere sphere{placed(checked("add_sphere.center", toVec(center, "add_sphere.center"), xml::kAnyValue)),
                               checked("add_sphere.radius", radius, xml::kPositive)};
                 return addObject(s, sphere, material, name, "add_sphere");
@@ -67,7 +67,7 @@ void addShapeBuilders(SceneClass& scene) {
             py::arg("point"), py::arg("normal"), py::arg("material") = py::none(), py::arg("name") = py::none())
         .def(
             "add_cylinder",
-            [](const SceneRef& s, py::object base, py::object axis, double radius, double height, py::object material,
+            [](const SceneRef& s, py::object base, py::object axis, Arg<double> radius, Arg<double> height, py::object material,
                py::object name) {
                 Cylinder c{placed(checked("add_cylinder.base", toVec(base, "add_cylinder.base"), xml::kAnyValue)),
                            loaderDirection("add_cylinder.axis", toVec(axis, "add_cylinder.axis")),
@@ -125,11 +125,17 @@ void addMeshAndLightBuilders(SceneClass& scene) {
             "affine <matrix>); a list of handles, one per material of the file")
         .def(
             "add_light",
-            [](const SceneRef& s, py::object position, py::object color, const std::string& type, double intensity,
-               const std::string& falloff, py::object direction, py::object inner, py::object outer, py::object name,
-               double radius, int shadowSamples, py::object u, py::object v, bool twoSided) {
-                s->scene->lights.push_back(buildLight(position, color, type, intensity, falloff, direction, inner,
-                                                      outer, name, {radius, shadowSamples, u, v, twoSided}));
+            [](const SceneRef& s, py::object position, py::object color, Arg<std::string> type,
+               Arg<double> intensity, Arg<std::string> falloff, py::object direction, py::object inner,
+               py::object outer, py::object name, Arg<double> radius, Arg<long long> shadowSamples, py::object u,
+               py::object v, Arg<bool> twoSided) {
+                // In the order of the arguments, so that the first wrong one is named.
+                std::string t = type.get("add_light.type");
+                double i = intensity.get("add_light.intensity");
+                std::string f = falloff.get("add_light.falloff");
+                AreaArguments area{radius.get("add_light.radius"), shadowSamples.get("add_light.shadow_samples"), u, v,
+                                   twoSided.get("add_light.two_sided")};
+                s->scene->lights.push_back(buildLight(position, color, t, i, f, direction, inner, outer, name, area));
                 s->lightIds.push_back(s->nextLightId++);
                 ++s->versions.geometry;  // the light count changed: the renderer takes the scene anew
                 return LightView{s, s->lightIds.back()};
