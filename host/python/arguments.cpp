@@ -43,14 +43,27 @@ glm::dvec3 toVec(const py::handle& h, const std::string& field) {
 }
 py::tuple toTuple(const glm::dvec3& v) { return py::make_tuple(v.x, v.y, v.z); }
 
+namespace {
+// Whether UTF-8 text holds a control character (Unicode's Cc: U+0000 to
+// U+001F, U+007F to U+009F).
+bool hasControlCharacter(const std::string& text) {
+    for (size_t i = 0; i < text.size(); ++i) {
+        auto c = static_cast<unsigned char>(text[i]);
+        if (c < 0x20 || c == 0x7F) return true;
+        if (c == 0xC2 && i + 1 < text.size() && static_cast<unsigned char>(text[i + 1]) <= 0x9F) return true;
+    }
+    return false;
+}
+}  // namespace
+
 // A name the saved file gives back as it is: the loader trims a <name>'s
-// text, and XML 1.0 has no control characters but tab and line breaks.
+// text, XML 1.0 has no control characters but tab and line breaks, and it
+// reads a \r back as \n; so no control character at all (host/python/README.md).
 std::string checkedName(const std::string& field, const py::object& name) {
     if (name.is_none()) return {};
     if (!py::isinstance<py::str>(name)) throw py::type_error(field + ": expected a string or None, got " + py::repr(name).cast<std::string>());
     std::string n = name.cast<std::string>();
-    bool control = std::any_of(n.begin(), n.end(), [](char c) { return (unsigned char)c < 0x20 && c != '\t' && c != '\n' && c != '\r'; });
-    if (control || xml::trimmed(n) != n)
+    if (hasControlCharacter(n) || xml::trimmed(n) != n)
         refuse(field, "text without control characters or surrounding whitespace", py::repr(name).cast<std::string>());
     return n;
 }

@@ -84,3 +84,22 @@ def test_wrong_argument_types_raise_type_error_naming_the_field(call, arguments,
         make(**arguments)
     assert str(e.value) == message
     assert scene.objects == [] and scene.lights == []
+
+
+@pytest.mark.parametrize("name", ["a\tb", "a\nb", "a\rb", "a\x1bb", "a\x7fb", "a\x85b"],
+                         ids=["tab", "newline", "return", "escape", "delete", "next line"])
+def test_names_refuse_control_characters(name):
+    scene = whitted.Scene()
+    with pytest.raises(ValueError, match=r"^add_sphere\.name: must be text without control characters"):
+        scene.add_sphere((0, 0, 0), 1, name=name)
+    with pytest.raises(ValueError, match=r"^add_light\.name: must be text without control characters"):
+        scene.add_light(position=(0, 2, 0), name=name)
+    assert scene.objects == [] and scene.lights == []
+    ball, light = scene.add_sphere((0, 0, 0), 1, name="ball"), scene.add_light(position=(0, 2, 0), name="key")
+    with pytest.raises(ValueError, match=r"^Object\.name: must be text without control characters"):
+        ball.name = name
+    with pytest.raises(ValueError, match=r"^Light\.name: must be text without control characters"):
+        light.name = name
+    assert (ball.name, light.name) == ("ball", "key")
+    ball.name = "ball é ü"  # other text stays welcome
+    assert ball.name == "ball é ü"
