@@ -87,20 +87,28 @@ std::string shapeText(const py::array& a) {
     return t + (a.ndim() == 1 ? ",)" : ")");
 }
 
-Rows floatRows(const py::object& x, py::ssize_t columns, const std::string& field) {
-    std::string expected = "an (N, " + std::to_string(columns) + ") array of numbers";
+namespace {
+// An array of numbers as float64, or ValueError naming the field and what it expected.
+Rows numberArray(const py::object& x, const std::string& field, const std::string& expected) {
     py::array any = py::array::ensure(x);
     if (!any) refuse(field, expected, py::repr(x).cast<std::string>());
     char kind = any.dtype().kind();
     if (kind != 'f' && kind != 'i' && kind != 'u') refuse(field, expected, "dtype " + py::str(any.dtype()).cast<std::string>());
-    Rows a = Rows::ensure(any);
+    return Rows::ensure(any);
+}
+}  // namespace
+
+Rows floatRows(const py::object& x, py::ssize_t columns, const std::string& field) {
+    std::string expected = "an (N, " + std::to_string(columns) + ") array of numbers";
+    Rows a = numberArray(x, field, expected);
     if (a.ndim() != 2 || a.shape(1) != columns || a.shape(0) == 0) refuse(field, expected, shapeText(a));
     return a;
 }
 
 glm::dmat4 transformMatrix(const py::object& x, const std::string& field) {
-    auto a = floatRows(x, 4, field);
-    if (a.shape(0) != 4) refuse(field, "a 4x4 matrix", shapeText(a));
+    const std::string expected = "a 4x4 matrix of numbers";
+    Rows a = numberArray(x, field, expected);
+    if (a.ndim() != 2 || a.shape(0) != 4 || a.shape(1) != 4) refuse(field, expected, shapeText(a));
     glm::dmat4 m(1.0);
     for (int r = 0; r < 4; ++r)
         for (int c = 0; c < 4; ++c) {

@@ -103,3 +103,15 @@ def test_names_refuse_control_characters(name):
     assert (ball.name, light.name) == ("ball", "key")
     ball.name = "ball é ü"  # other text stays welcome
     assert ball.name == "ball é ü"
+
+
+def test_a_transform_of_the_wrong_shape_asks_for_a_4x4_matrix():
+    scene = whitted.Scene()
+    vertices, faces = np.eye(3), np.array([[0, 1, 2]])
+    for transform, got in [(np.eye(3), "shape (3, 3)"), (np.eye(4)[:3], "shape (3, 4)"), (np.zeros(16), "shape (16,)")]:
+        with pytest.raises(ValueError) as e:
+            scene.add_mesh(vertices, faces, transform=transform)
+        assert str(e.value) == f"add_mesh.transform: must be a 4x4 matrix of numbers, got {got}"
+    ball = scene.add_sphere((0, 0, 0), 1)
+    with pytest.raises(ValueError, match=r"^Object\.transform: must be a 4x4 matrix of numbers, got shape \(3, 3\)$"):
+        ball.transform = np.eye(3)
