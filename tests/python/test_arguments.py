@@ -115,3 +115,18 @@ def test_a_transform_of_the_wrong_shape_asks_for_a_4x4_matrix():
     ball = scene.add_sphere((0, 0, 0), 1)
     with pytest.raises(ValueError, match=r"^Object\.transform: must be a 4x4 matrix of numbers, got shape \(3, 3\)$"):
         ball.transform = np.eye(3)
+
+
+def test_renderer_device_by_index_or_name(renderer):
+    devices = whitted.devices()
+    suitable = [d for d in devices if d["suitable"]]
+    first = suitable[0]
+    assert whitted.Renderer(device=first["index"]).device["index"] == first["index"]
+    assert whitted.Renderer(device=first["name"][2:6].upper()).device["index"] == first["index"]
+    listed = ", ".join(f"{d['index']}: {d['name']}" for d in devices)
+    for index in (len(devices), -1):
+        with pytest.raises(ValueError) as e:
+            whitted.Renderer(device=index)
+        assert str(e.value) == f"device: no device {index}; the devices are {listed}"
+    with pytest.raises(TypeError, match=r"^device: expected an index, a name substring or None, got float$"):
+        whitted.Renderer(device=1.0)
