@@ -639,7 +639,8 @@ void addRenderApi(py::module_& m) {
              "What each ray origins[i] + t * directions[i], 0 < t < t_max, hits first in the scene, found on the "
              "device by the renderer's own closest-hit query (host/python/README.md \"Ray casting\"). origins, "
              "directions: (N, 3) float32 or float64 (directions of any nonzero length); t_max: a number or (N,), "
-             "in units of each direction. Returns a dict of numpy arrays: t (N,) float32 (inf: a miss), object_id "
+             "in units of each direction. Returns a dict of numpy arrays: t (N,) float32 (inf: a miss; a hit whose t "
+             "overflows float32 is one), object_id "
              "(N,) uint32 (the object_id mask's ids, 0xFFFFFFFF: a miss), primitive_id (N,) uint32 (a mesh's "
              "triangle index, a csg object's leaf, else 0), normal (N, 3) float32 (the unit geometric normal, "
              "outward), uv (N, 2) float32. Releases the GIL.")

@@ -130,3 +130,17 @@ def test_renderer_device_by_index_or_name(renderer):
         assert str(e.value) == f"device: no device {index}; the devices are {listed}"
     with pytest.raises(TypeError, match=r"^device: expected an index, a name substring or None, got float$"):
         whitted.Renderer(device=1.0)
+
+
+def test_a_hit_whose_t_overflows_float32_is_a_miss(renderer):
+    scene = whitted.Scene()
+    scene.add_sphere((0, 0, 0), 1)
+    origins = np.zeros((3, 3))
+    # From the centre, the sphere is 1 away: t = 1 / |d|, beyond float32 for the first two.
+    directions = np.array([[-1.2e-40, -1.4e-40, -5e-40], [0, 0, 1e-39], [0, 0, 1e-30]])
+    hits = renderer.cast_rays(scene, origins, directions)
+    assert hits["object_id"].tolist() == [NO_HIT, NO_HIT, 0]
+    assert hits["primitive_id"].tolist() == [NO_HIT, NO_HIT, 0]
+    assert np.isinf(hits["t"][:2]).all()
+    np.testing.assert_allclose(hits["t"][2], 1e30, rtol=1e-6)
+    assert not hits["normal"][:2].any() and not hits["uv"][:2].any()
