@@ -588,7 +588,8 @@ void addRenderApi(py::module_& m) {
                 }
                 return r.aovArrays;
             },
-            "name -> float32 array (H, W, 3) or (H, W), the values of the auxiliary EXR files")
+            "name -> array (H, W, 3) or (H, W), the values of the auxiliary EXR files: float32, but the masks "
+            "object_id and material_id uint32 (the ids; 0xFFFFFFFF: no object)")
         .def_property_readonly(
             "record",
             [](Result& r) {

@@ -144,3 +144,17 @@ def test_a_hit_whose_t_overflows_float32_is_a_miss(renderer):
     assert np.isinf(hits["t"][:2]).all()
     np.testing.assert_allclose(hits["t"][2], 1e30, rtol=1e-6)
     assert not hits["normal"][:2].any() and not hits["uv"][:2].any()
+
+
+def small_scene():
+    scene = whitted.Scene()
+    scene.add_sphere((0, 0, 0), 1, name="ball")
+    return scene
+
+
+def test_aov_dtypes_are_as_documented(renderer):
+    result = renderer.render(small_scene(), width=8, height=6, spp=1, aovs=("depth", "object_id", "material_id"))
+    assert result.aovs["depth"].dtype == np.float32
+    assert result.aovs["object_id"].dtype == np.uint32 and result.aovs["material_id"].dtype == np.uint32
+    doc = whitted.RenderResult.aovs.__doc__
+    assert "uint32" in doc and "object_id" in doc
