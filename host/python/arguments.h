@@ -44,10 +44,10 @@ template <typename T>
 T typed(const py::handle& x, const std::string& field) {
     py::detail::make_caster<T> caster;
     if (!caster.load(x, true)) {
-        const char* expected = std::is_same_v<T, bool>         ? "True or False"
-                               : std::is_integral_v<T>         ? "an integer"
-                               : std::is_floating_point_v<T>   ? "a number"
-                                                               : "a string";
+        const char* expected = std::is_same_v<T, bool> ? "True or False"
+                               : std::is_integral_v<T> ? "an integer"
+                               : std::is_floating_point_v<T> ? "a number"
+                                                             : "a string";
         throw py::type_error(field + ": expected " + expected + ", got " + typeName(x));
     }
     return py::detail::cast_op<T>(std::move(caster));
