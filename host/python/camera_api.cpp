@@ -1,25 +1,43 @@
-// Camera.set_from_matrices, intrinsics(), cam_to_world(), clear_intrinsics()
-// and copy(): cameras from and to the matrices of computer-vision tools
-// (scene/camera_matrices.h; host/python/README.md "Cameras from matrices").
-// Added to the Camera class scene_api.cpp makes.
+// whitted.Camera: the scene's camera as a view (its frame, lens and image
+// size, checked as the XML loader checks <camera>), cameras from and to the
+// matrices of computer-vision tools (scene/camera_matrices.h;
+// host/python/README.md "Cameras from matrices") and the rays the renderer
+// traces through its pixels.
+#include "python/arguments.h"
 #include "python/python_api.h"
 #include "render/gpu_scene.h"
 #include "render/ray_cast.h"
 #include "scene/camera_matrices.h"
+#include "scene/scene_loader.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
 #include <cmath>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
-#include <stdexcept>
-#include <string>
-
 namespace whitted::python {
 namespace {
+
+using CameraClass = py::class_<CameraView>;
+
+// Sets one of the camera's frame vectors, refusing (and undoing) a value
+// that leaves it without an image frame, in the XML loader's terms
+// (scene/scene.h cameraFrameProblem).
+void setCameraFrame(Camera& camera, glm::dvec3 Camera::*member, const glm::dvec3& value, const std::string& field) {
+    const glm::dvec3 was = camera.*member;
+    camera.*member = value;
+    const CameraFrameProblem frame = cameraFrameProblem(camera);
+    if (frame == CameraFrameProblem::None) return;
+    camera.*member = was;
+    throw py::value_error(field + ": " +
+                          (frame == CameraFrameProblem::EyeAtWindow ? "Camera.position and Camera.look_at would coincide"
+                                                             : "Camera.up would be parallel to the viewing direction"));
+}
 
 using Matrix = py::array_t<double, py::array::c_style | py::array::forcecast>;
 
@@ -57,10 +75,104 @@ py::array_t<double> toArray(const double* columnMajor, py::ssize_t n) {
     return out;
 }
 
-}  // namespace
+// The frame and the image size.
+void addFrameFields(CameraClass& camera) {
+    camera
+        .def_property(
+            "position", [](const CameraView& v) { return toTuple(v.c().eye); },
+            [](const CameraView& v, py::object x) {
+                setCameraFrame(v.c(), &Camera::eye, checked("Camera.position", toVec(x, "Camera.position"), xml::kAnyValue),
+                               "Camera.position");
+                v.edited();
+            },
+            "the eye")
+        .def_property(
+            "look_at", [](const CameraView& v) { return toTuple(v.c().windowCenter); },
+            [](const CameraView& v, py::object x) {
+                setCameraFrame(v.c(), &Camera::windowCenter,
+                               checked("Camera.look_at", toVec(x, "Camera.look_at"), xml::kAnyValue), "Camera.look_at");
+                v.edited();
+            },
+            "the point the camera looks at (the image plane's centre)")
+        .def_property(
+            "up", [](const CameraView& v) { return toTuple(v.c().up); },
+            [](const CameraView& v, py::object x) {
+                setCameraFrame(v.c(), &Camera::up, unit("Camera.up", toVec(x, "Camera.up")), "Camera.up");
+                v.edited();
+            },
+            "the up direction (any length but 0)")
+        .def_property(
+            "fov", [](const CameraView& v) { return v.c().verticalFovDegrees; },
+            [](const CameraView& v, Arg<double> x) {
+                v.c().verticalFovDegrees = checked("Camera.fov", x, kFovRange);
+                v.edited();
+            },
+            "vertical field of view in degrees")
+        .def_property(
+            "width", [](const CameraView& v) { return v.c().width; },
+            [](const CameraView& v, Arg<long long> x) {
+                v.c().width = int(checked("Camera.width", x, kImageSide));
+                v.edited();
+            },
+            "image width in pixels (the render's default)")
+        .def_property(
+            "height", [](const CameraView& v) { return v.c().height; },
+            [](const CameraView& v, Arg<long long> x) {
+                v.c().height = int(checked("Camera.height", x, kImageSide));
+                v.edited();
+            },
+            "image height in pixels (the render's default)");
+}
 
-void addCameraApi(py::module_& m) {
-    auto camera = py::reinterpret_borrow<py::class_<CameraView>>(m.attr("Camera"));
+// The projection and the thin lens.
+void addLensFields(CameraClass& camera) {
+    camera
+        .def_property(
+            "projection",
+            [](const CameraView& v) {
+                return std::string(v.c().projection == Camera::Projection::Orthographic ? "orthographic" : "perspective");
+            },
+            [](const CameraView& v, Arg<std::string> x) {
+                std::string p = x.get("Camera.projection");
+                if (p != "perspective" && p != "orthographic")
+                    refuse("Camera.projection", "'perspective' or 'orthographic'", "'" + p + "'");
+                v.c().projection = p == "orthographic" ? Camera::Projection::Orthographic : Camera::Projection::Perspective;
+                v.edited();
+            },
+            "'perspective' (fov) or 'orthographic' (window_height), as <projection>")
+        .def_property(
+            "window_height", [](const CameraView& v) { return v.c().windowHeight; },
+            [](const CameraView& v, Arg<double> x) {
+                v.c().windowHeight = checked("Camera.window_height", x, xml::kPositive);
+                v.edited();
+            },
+            "an orthographic camera's window height in scene units (<window_height>)")
+        .def_property(
+            "aperture_radius", [](const CameraView& v) { return v.c().apertureRadius; },
+            [](const CameraView& v, Arg<double> x) {
+                v.c().apertureRadius = checked("Camera.aperture_radius", x, xml::kNonNegative);
+                v.edited();
+            },
+            "the thin lens's radius in scene units (<aperture_radius>); 0: a pinhole, everything sharp")
+        .def_property(
+            "focus_distance", [](const CameraView& v) { return v.c().focusDistanceOrDefault(); },
+            [](const CameraView& v, py::object x) {
+                if (x.is_none()) v.c().focusDistance.reset();
+                else if (!py::isinstance<py::float_>(x) && !py::isinstance<py::int_>(x))
+                    throw py::type_error("Camera.focus_distance: expected a number or None, got " + typeName(x));
+                else v.c().focusDistance = checked("Camera.focus_distance", x.cast<double>(), xml::kPositive);
+                v.edited();
+            },
+            "the distance of the plane in focus along the view (<focus_distance>); None: look_at's distance")
+        .def("__repr__", [](const CameraView& v) {
+            return "Camera(position=" + py::repr(toTuple(v.c().eye)).cast<std::string>() +
+                   ", look_at=" + py::repr(toTuple(v.c().windowCenter)).cast<std::string>() +
+                   ", fov=" + shown(v.c().verticalFovDegrees) + ")";
+        });
+}
+
+// K and the pose.
+void addMatrixMethods(CameraClass& camera) {
     camera
         .def(
             "set_from_matrices",
@@ -117,7 +229,12 @@ void addCameraApi(py::module_& m) {
                 v.c().intrinsics.reset();
                 v.edited();
             },
-            "Drops the K of set_from_matrices: the fov gives the window again (the pose stays)")
+            "Drops the K of set_from_matrices: the fov gives the window again (the pose stays)");
+}
+
+// Camera.rays and Camera.copy.
+void addRaysAndCopy(CameraClass& camera) {
+    camera
         .def(
             "rays",
             [](const CameraView& v, std::optional<int> widthArg, std::optional<int> heightArg,
@@ -174,6 +291,16 @@ void addCameraApi(py::module_& m) {
                 return CameraView{std::make_shared<SceneHandle>(std::move(only))};
             },
             "A detached copy (for Renderer.render(cameras=[...])): edits to it leave the scene alone");
+}
+
+}  // namespace
+
+void addCameraApi(py::module_& m) {
+    CameraClass camera(m, "Camera", "The scene's pinhole camera (a view: edits change the scene)");
+    addFrameFields(camera);
+    addLensFields(camera);
+    addMatrixMethods(camera);
+    addRaysAndCopy(camera);
 }
 
 }  // namespace whitted::python

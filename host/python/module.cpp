@@ -11,8 +11,14 @@ namespace py = pybind11;
 PYBIND11_MODULE(whitted, m) {
     m.doc() = "whitted: a Whitted-style ray tracer on Vulkan (host/python/README.md)";
     m.attr("__version__") = WHITTED_VERSION;
-    whitted::python::addSceneApi(m);
+    // Each class before the signatures that name it.
+    whitted::python::addSceneErrorApi(m);
     whitted::python::addCameraApi(m);
+    whitted::python::addMaterialApi(m);
+    whitted::python::addObjectApi(m);
+    whitted::python::addLightApi(m);
+    whitted::python::addMeshApi(m);
+    whitted::python::addSceneApi(m);
     whitted::python::addRenderApi(m);
     m.attr("_renderer") = py::none();
     // whitted.render(scene_or_path, **options): one renderer for the module,

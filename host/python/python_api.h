@@ -1,7 +1,9 @@
-// The Python module `whitted` (host/python/README.md): the scene side
-// (scene_api.cpp) and the renderer side (render_api.cpp), registered by
-// module.cpp. The top layer: it links the layers below but app and view (no
-// command line, no window; host/CMakeLists.txt).
+// The Python module `whitted` (host/python/README.md): one binding function
+// per class, each in its file (camera_api.cpp, object_api.cpp, light_api.cpp,
+// material_api.cpp, mesh_api.cpp, scene_api.cpp with scene_build_api.cpp,
+// render_api.cpp), registered by module.cpp; the views they share and what
+// one class's file lends another. The top layer: it links the layers below
+// but app and view (no command line, no window; host/CMakeLists.txt).
 #pragma once
 
 #include "scene/scene.h"
@@ -9,8 +11,10 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace whitted::python {
@@ -28,7 +32,7 @@ struct Versions {
 // A Scene of the module: the C++ scene, shared with the object, light and
 // camera views handed out, and its edit counters. `id` is unique per scene
 // (a copy gets a new one). objectIds and lightIds run beside scene->objects
-// and scene->lights: the handle of each (scene_api.cpp's views hold it, so
+// and scene->lights: the handle of each (the views hold it, so
 // a view survives the removal of others); an id is never reused within
 // the handle's life.
 struct SceneHandle {
@@ -52,8 +56,69 @@ struct CameraView {
     void edited() const { ++s->versions.camera; }
 };
 
-void addSceneApi(py::module_& m);
-void addCameraApi(py::module_& m);  // after addSceneApi: adds to its Camera class
+// Object and light views hold the handle's id of what they show: one
+// removed raises KeyError, the others keep working.
+size_t indexOf(const std::vector<uint64_t>& ids, uint64_t id, const char* what);
+struct ObjectView {
+    SceneRef s;
+    uint64_t id;
+    size_t index() const { return indexOf(s->objectIds, id, "object"); }
+    Object& o() const { return s->scene->objects[index()]; }
+};
+struct LightView {
+    SceneRef s;
+    uint64_t id;
+    size_t index() const { return indexOf(s->lightIds, id, "light"); }
+    Light& l() const { return s->scene->lights[index()]; }
+};
+
+// whitted.Material: a material's values, not tied to a scene; an object
+// takes a copy (Object.material = m).
+struct MaterialValue {
+    Material m;
+};
+
+// whitted.Mesh: the arrays add_mesh takes, held together (from_trimesh
+// fills them from a trimesh.Trimesh), checked when added.
+struct MeshArrays {
+    py::object vertices, faces, normals, uvs;
+};
+
+// material_api.cpp: the material fields on Object and on Material; the
+// material an object is given (a copy, its checker anchored on the shape);
+// the refusal of textures made from arrays where a file must name them.
+void addMaterialFields(py::class_<ObjectView>& cls);
+void addMaterialFields(py::class_<MaterialValue>& cls);
+Material materialFor(const Shape& shape, const py::object& material, const std::string& field);
+void refuseFilelessTextures(const Scene& scene, const std::string& call);
+
+// light_api.cpp: a light of add_light's arguments, checked as the loader checks <light>.
+const char* lightTypeName(Light::Type t);
+struct AreaArguments {
+    double radius;
+    long long shadowSamples;
+    py::object u, v;
+    bool twoSided;
+};
+Light buildLight(const py::object& position, const py::object& color, const std::string& type, double intensity,
+                 const std::string& falloff, const py::object& direction, const py::object& inner,
+                 const py::object& outer, const py::object& name, const AreaArguments& area);
+
+// mesh_api.cpp: add_mesh's arrays as a mesh; add_file's objects.
+Mesh buildMesh(const py::object& vertices, const py::object& faces, const py::object& normals, const py::object& uvs,
+               const py::object& transform);
+std::vector<Object> fileObjects(const std::filesystem::path& path, const py::object& part, const py::object& transform);
+
+// The classes, in the order module.cpp registers them (a class is
+// registered before a signature names it).
+void addSceneErrorApi(py::module_& m);
+void addCameraApi(py::module_& m);
+void addMaterialApi(py::module_& m);
+void addObjectApi(py::module_& m);
+void addLightApi(py::module_& m);
+void addMeshApi(py::module_& m);
+void addSceneApi(py::module_& m);  // Scene, load, loads
+void addSceneBuilders(py::class_<SceneHandle, SceneRef>& scene);  // scene_build_api.cpp: add_*, remove
 void addRenderApi(py::module_& m);
 
 }  // namespace whitted::python

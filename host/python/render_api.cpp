@@ -10,6 +10,7 @@
 #include "output/aov_output.h"
 #include "output/ray_tree_json.h"
 #include "output/render_record.h"
+#include "python/arguments.h"
 #include "python/python_api.h"
 #include "render/ray_cast.h"
 #include "render/ray_tree.h"
@@ -210,6 +211,25 @@ struct Uploaded {
     Versions versions;
     RenderSettings settings;
 };
+
+// Renderer(device=...): None (the best device), a name substring, or an
+// index as whitted.devices() lists them (ValueError naming the devices for
+// one that is not there), as the context takes it (vk/context.h).
+std::optional<std::string> deviceArg(const py::object& device) {
+    if (device.is_none()) return std::nullopt;
+    if (py::isinstance<py::str>(device)) return device.cast<std::string>();
+    if (!py::isinstance<py::int_>(device) || py::isinstance<py::bool_>(device))
+        throw py::type_error("device: expected an index, a name substring or None, got " + typeName(device));
+    long long index = PyLong_AsLongLong(device.ptr());
+    if (index == -1 && PyErr_Occurred()) PyErr_Clear();  // too large: not there either
+    std::vector<DeviceInfo> devices = VulkanContext::listDevices();
+    if (index < 0 || size_t(index) >= devices.size()) {
+        std::string listed;
+        for (const DeviceInfo& d : devices) listed += (listed.empty() ? "" : ", ") + std::to_string(d.index) + ": " + d.name;
+        throw py::value_error("device: no device " + py::str(device).cast<std::string>() + "; the devices are " + listed);
+    }
+    return std::to_string(index);
+}
 
 class PyRenderer {
 public:
@@ -575,7 +595,8 @@ void addRenderApi(py::module_& m) {
                 }
                 return r.aovArrays;
             },
-            "name -> float32 array (H, W, 3) or (H, W), the values of the auxiliary EXR files")
+            "name -> array (H, W, 3) or (H, W), the values of the auxiliary EXR files: float32, but the masks "
+            "object_id and material_id uint32 (the ids; 0xFFFFFFFF: no object)")
         .def_property_readonly(
             "record",
             [](Result& r) {
@@ -616,15 +637,18 @@ void addRenderApi(py::module_& m) {
                            "Holds a Vulkan device, the pipeline and the uploaded scene between renders. "
                            "A renderer renders one scene at a time (calls from several threads wait in turn); "
                            "renderers on different threads render at the same time.")
-        .def(py::init<std::optional<std::string>>(), py::arg("device") = py::none(),
-             "device: an index or a name substring as `whitted devices` lists them (None: the best)")
+        .def(py::init([](const py::object& device) { return std::make_unique<PyRenderer>(deviceArg(device)); }),
+             py::arg("device") = py::none(),
+             "device: an index (int) or a name substring as whitted.devices() and `whitted devices` list them "
+             "(None: the best)")
         .def_property_readonly("device", &PyRenderer::device)
         .def("cast_rays", &PyRenderer::castRays, py::arg("scene"), py::arg("origins"), py::arg("directions"),
              py::arg("t_max") = std::numeric_limits<double>::infinity(),
              "What each ray origins[i] + t * directions[i], 0 < t < t_max, hits first in the scene, found on the "
              "device by the renderer's own closest-hit query (host/python/README.md \"Ray casting\"). origins, "
              "directions: (N, 3) float32 or float64 (directions of any nonzero length); t_max: a number or (N,), "
-             "in units of each direction. Returns a dict of numpy arrays: t (N,) float32 (inf: a miss), object_id "
+             "in units of each direction. Returns a dict of numpy arrays: t (N,) float32 (inf: a miss; a hit whose t "
+             "overflows float32 is one), object_id "
              "(N,) uint32 (the object_id mask's ids, 0xFFFFFFFF: a miss), primitive_id (N,) uint32 (a mesh's "
              "triangle index, a csg object's leaf, else 0), normal (N, 3) float32 (the unit geometric normal, "
              "outward), uv (N, 2) float32. Releases the GIL.")

@@ -142,12 +142,15 @@ CastResult RayCaster::cast(const Renderer& renderer, const CastRays& rays) {
         for (uint32_t k = 0; k < count; ++k) {
             size_t i = first + k;
             const gpu::CastHit& h = out[k];
-            if (h.primitive == gpu::kNoObject) {
+            // t in units of the direction as given: past float's range for a
+            // direction short enough, and then a miss, since infinity means one.
+            const float t = float(double(h.t) / glm::length(rowAt(rays.directions, i)));
+            if (h.primitive == gpu::kNoObject || std::isinf(t)) {
                 result.t[i] = std::numeric_limits<float>::infinity();
                 result.object[i] = result.primitive[i] = gpu::kNoObject;
                 continue;  // normal and uv stay 0
             }
-            result.t[i] = float(double(h.t) / glm::length(rowAt(rays.directions, i)));
+            result.t[i] = t;
             result.object[i] = h.object;
             result.primitive[i] = inObject[h.primitive];
             for (int c = 0; c < 3; ++c) result.normal[3 * i + c] = h.normal[c];

@@ -32,7 +32,8 @@ struct CastRays {
     std::span<const double> tMax;        // 1 (every ray) or N; > 0, infinity allowed
 };
 
-// What each ray hits first (the index of a miss: kNoObject, t infinity, the rest 0).
+// What each ray hits first (the index of a miss: kNoObject, t infinity, the
+// rest 0). A hit whose t (in units of the direction) overflows float is a miss.
 struct CastResult {
     std::vector<float> t;              // N: the hit at origin + t * direction
     std::vector<uint32_t> object;      // N: the object's index in the scene, the object_id mask's

@@ -1,6 +1,6 @@
 // Edits and questions about a shape that do not depend on where they come
 // from: the window's editor panel (view/editor_panel.h) and the Python
-// module (python/scene_api.cpp) both move shapes and anchor checkers
+// module (python/object_api.cpp) both move shapes and anchor checkers
 // through these.
 #pragma once
 
