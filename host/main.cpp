@@ -2,6 +2,7 @@
 // its code in host/app/ (app/commands.h); here they are registered, the
 // arguments parsed, the command given run, and a failure caught once.
 #include "app/commands.h"
+#include "app/interrupt.h"
 
 #include <CLI/CLI.hpp>
 
@@ -26,6 +27,9 @@ int main(int argc, char** argv) {
         for (const Command& command : commands)
             if (command.subcommand->parsed()) return command.run();
         return kExitBadInput;  // not reached: parsing requires one command
+    } catch (const Interrupted&) {
+        std::cerr << "whitted: interrupted; nothing written\n";
+        return kExitInterrupted;
     } catch (const std::exception& e) {
         std::cerr << "whitted: " << e.what() << "\n";
         return kExitFailure;

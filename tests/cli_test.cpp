@@ -5,9 +5,17 @@
 #include "output/aov_output.h"
 #include "io/image_io.h"
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include <thread>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace whitted::test {
 namespace {
@@ -300,6 +308,48 @@ TEST(Cli, DevicesListsLavapipeOrAGpu) {
     CommandRun r = runWhitted("devices");
     EXPECT_EQ(r.status, 0);
     EXPECT_NE(r.output.find("0: "), std::string::npos) << r.output;
+}
+
+// Ctrl+C during a render: whitted stops at its next submission, removes the
+// image it was writing and exits 130; the same for SIGTERM. The signal is
+// sent once the image's temporary file exists, that is while the render of
+// a long one-band image runs, whenever that happens.
+TEST(Cli, InterruptedRenderWritesNothingAndExits130) {
+    for (int signal : {SIGINT, SIGTERM}) {
+        fs::path dir = scratchDir("interrupted_" + std::to_string(signal));
+        fs::path log = dir.parent_path() / ("interrupted_" + std::to_string(signal) + ".log");
+        std::vector<std::string> args = {WHITTED_EXECUTABLE, "render", scene("three_diffuse_spheres.xml"),
+                                         "-o", (dir / "x.png").string(), "--width", "320", "--height", "240",
+                                         "--aa", "uniform", "--spp", "1024"};
+        std::vector<char*> argv;
+        for (std::string& a : args) argv.push_back(a.data());
+        argv.push_back(nullptr);
+        posix_spawn_file_actions_t actions;
+        posix_spawn_file_actions_init(&actions);
+        posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        pid_t pid = 0;
+        ASSERT_EQ(posix_spawn(&pid, WHITTED_EXECUTABLE, &actions, nullptr, argv.data(), environ), 0);
+        posix_spawn_file_actions_destroy(&actions);
+
+        auto writing = [&] {
+            for (const fs::directory_entry& e : fs::directory_iterator(dir))
+                if (e.path().filename().string().find(".partial") != std::string::npos) return true;
+            return false;
+        };
+        int status = 0;
+        bool exited = false;
+        while (!writing()) {
+            ASSERT_EQ(waitpid(pid, &status, WNOHANG), 0) << "whitted ended before it began writing: " << readText(log);
+            std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        }
+        ASSERT_EQ(::kill(pid, signal), 0);
+        exited = waitpid(pid, &status, 0) == pid;
+        ASSERT_TRUE(exited);
+        ASSERT_TRUE(WIFEXITED(status)) << "ended by signal " << WTERMSIG(status);
+        EXPECT_EQ(WEXITSTATUS(status), 130);
+        EXPECT_NE(readText(log).find("whitted: interrupted; nothing written"), std::string::npos) << readText(log);
+        EXPECT_TRUE(fs::is_empty(dir)) << fs::directory_iterator(dir)->path();
+    }
 }
 
 }  // namespace

@@ -17,6 +17,7 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailure = 1;     // device or I/O failure
 inline constexpr int kExitBadInput = 2;    // bad scene file or arguments
 inline constexpr int kExitValidation = 3;  // the Vulkan validation layer reported a problem
+inline constexpr int kExitInterrupted = 130;  // Ctrl+C (128 + SIGINT, as shells report it); nothing written
 
 // A verb registered on the command line: its subcommand, and what runs
 // (after parsing) when it is the one given. `run` returns the exit status.

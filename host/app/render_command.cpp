@@ -2,6 +2,7 @@
 // write files.
 #include "app/cli_options.h"
 #include "app/commands.h"
+#include "app/interrupt.h"
 #include "app/progress_bar.h"
 #include "device_types.h"
 #include "scene/quick_look.h"
@@ -207,7 +208,10 @@ private:
         ImageFileSink sink(mainImage, aovs_, options_.tonemap, shares_.front()->layout(), settings_.samplesPerPixel,
                            options_.exposure);
         ProgressBar bar("rendering", !options_.quiet);
-        result_ = renderOnDevices(shares_, sink, [&](double f) { bar.update(f); });
+        result_ = renderOnDevices(shares_, sink, [&](double f) {
+            throwIfInterrupted();
+            bar.update(f);
+        });
         bar.finish();
         if (result_.lostSamples > 0)
             std::cerr << "warning: the driver cut " << result_.lostSamples
@@ -240,6 +244,7 @@ private:
 };
 
 int runRenderCommand(const RenderCommandOptions& options) {
+    InterruptScope interrupts;  // Ctrl+C: stop at the next submission, write nothing (main exits 130)
     RenderRun run(options);
     if (auto refused = run.load()) return *refused;
     if (auto refused = run.openDevices()) return *refused;
