@@ -231,6 +231,99 @@ std::optional<std::string> deviceArg(const py::object& device) {
     return std::to_string(index);
 }
 
+// The cameras of a batch render: a non-empty list of Camera of one image
+// size, unless width and height are given.
+std::vector<Camera> batchCameras(const py::object& camerasArg, std::optional<int> width, std::optional<int> height) {
+    auto bad = [](const std::string& what) { throw py::value_error(what); };
+    std::vector<Camera> cameras;
+    if (py::isinstance<py::str>(camerasArg) || !py::isinstance<py::iterable>(camerasArg))
+        bad("cameras: must be a list of Camera (e.g. scene.camera.copy())");
+    for (py::handle h : camerasArg) {
+        if (!py::isinstance<CameraView>(h))
+            bad("cameras: must be a list of Camera (e.g. scene.camera.copy()), got a " +
+                py::str(py::type::of(h).attr("__name__")).cast<std::string>());
+        cameras.push_back(h.cast<const CameraView&>().c());
+    }
+    if (cameras.empty()) bad("cameras: the list is empty");
+    for (const Camera& c : cameras)
+        if ((!width && c.width != cameras[0].width) || (!height && c.height != cameras[0].height))
+            bad("cameras: of different image sizes (" + std::to_string(cameras[0].width) + "x" +
+                std::to_string(cameras[0].height) + " and " + std::to_string(c.width) + "x" +
+                std::to_string(c.height) + "); give width= and height=");
+    return cameras;
+}
+
+// The render's settings from render()'s arguments, each checked (ValueError
+// naming the argument); `aovs` gets the auxiliary images asked for.
+RenderSettings renderSettings(const Camera& camera, std::optional<int> width, std::optional<int> height, int spp,
+                              const std::string& aa, std::optional<double> aaThreshold, int maxDepth,
+                              const py::object& aovsArg, int aovBounces, const std::optional<std::vector<int>>& region,
+                              const std::string& trace, const py::object& seedArg, std::vector<std::string>& aovs) {
+    auto bad = [](const std::string& what) { throw py::value_error(what); };
+    auto side = [&](const char* name, std::optional<int> v, int fallback) {
+        int x = v.value_or(fallback);
+        if (x < 1 || x > int(gpu::kMaxImageSide))
+            bad(std::string(name) + ": must be in 1.." + std::to_string(gpu::kMaxImageSide) + ", got " + std::to_string(x));
+        return x;
+    };
+    RenderSettings s;
+    s.width = side("width", width, camera.width);
+    s.height = side("height", height, camera.height);
+    if (spp < 1 || spp > int(gpu::kMaxSamplesPerPixel))
+        bad("spp: must be in 1.." + std::to_string(gpu::kMaxSamplesPerPixel) + ", got " + std::to_string(spp));
+    s.samplesPerPixel = spp;
+    if (aa != "adaptive" && aa != "uniform") bad("aa: must be 'adaptive' or 'uniform', got '" + aa + "'");
+    s.antiAliasing = aa == "uniform" ? AntiAliasing::Uniform : AntiAliasing::Adaptive;
+    if (aaThreshold) {
+        if (!std::isfinite(*aaThreshold) || *aaThreshold < 0 || *aaThreshold > 1)
+            bad("aa_threshold: must be in [0, 1], got " + py::str(py::float_(*aaThreshold)).cast<std::string>());
+        s.aaThreshold = float(*aaThreshold);
+    }
+    if (maxDepth < 0 || maxDepth > int(gpu::kMaxDepthLimit))
+        bad("max_depth: must be in 0.." + std::to_string(gpu::kMaxDepthLimit) + ", got " + std::to_string(maxDepth));
+    s.maxDepth = maxDepth;
+    if (aovBounces < 0 || aovBounces > int(gpu::kAovBouncesMax))
+        bad("aov_bounces: must be in 0.." + std::to_string(gpu::kAovBouncesMax) + ", got " + std::to_string(aovBounces));
+    std::string list;
+    if (py::isinstance<py::str>(aovsArg)) {
+        list = aovsArg.cast<std::string>();
+    } else {
+        for (py::handle h : aovsArg) list += (list.empty() ? "" : ",") + py::str(h).cast<std::string>();
+        if (list.empty()) list = "none";
+    }
+    try {
+        aovs = parseAovList(list, aovBounces);
+    } catch (const std::invalid_argument& e) {
+        bad(std::string("aovs: ") + e.what());
+    }
+    s.auxiliary = !aovs.empty();
+    s.aovBounces = hasSplitAov(aovs) ? aovBounces : 0;
+    s.ids = hasIdAov(aovs);
+    if (region) {
+        const std::vector<int>& r = *region;
+        if (r.size() != 4) bad("region: must be (x0, y0, x1, y1), got " + std::to_string(r.size()) + " numbers");
+        if (r[0] < 0 || r[1] < 0 || r[2] > s.width || r[3] > s.height || r[0] >= r[2] || r[1] >= r[3])
+            bad("region: " + std::to_string(r[0]) + "," + std::to_string(r[1]) + "," + std::to_string(r[2]) + "," +
+                std::to_string(r[3]) + " is empty or outside the " + std::to_string(s.width) + "x" +
+                std::to_string(s.height) + " image");
+        s.region = PixelRegion{r[0], r[1], r[2], r[3]};
+    }
+    if (trace != "auto" && trace != "bvh" && trace != "rayquery")
+        bad("trace: must be 'auto', 'bvh' or 'rayquery', got '" + trace + "'");
+    s.trace = trace == "rayquery" ? TracePath::RayQuery : trace == "bvh" ? TracePath::Bvh : TracePath::Auto;
+    // seed: FrameParams.seed, xor-ed into each pixel's pattern hash
+    // (whitted.comp): a function of the pixel and the seed only.
+    if (!py::isinstance<py::int_>(seedArg) || py::isinstance<py::bool_>(seedArg))
+        bad("seed: must be an integer in 0..4294967295");
+    {
+        py::int_ seedValue = seedArg.cast<py::int_>();
+        if (seedValue < py::int_(0) || seedValue > py::int_(0xFFFFFFFFu))
+            bad("seed: must be in 0..4294967295, got " + py::str(seedValue).cast<std::string>());
+        s.seed = seedValue.cast<uint32_t>();
+    }
+    return s;
+}
+
 class PyRenderer {
 public:
     explicit PyRenderer(const std::optional<std::string>& device) {
@@ -242,100 +335,36 @@ public:
     // One render (cameras None: the scene's camera) or a batch, one render
     // per camera of `cameras` (a list of Camera, e.g. scene.camera.copy()):
     // the scene goes to the device once, each camera rewrites only the
-    // uniform block. Returns a RenderResult or a list of them.
+    // uniform block. Returns a RenderResult or a list of them. Every option
+    // is checked before anything reaches the device.
     py::object render(const SceneRef& handle, std::optional<int> width, std::optional<int> height, int spp,
                       const std::string& aa, std::optional<double> aaThreshold, int maxDepth, py::object aovsArg,
                       int aovBounces, std::optional<std::vector<int>> region, const std::string& trace,
                       py::object progress, py::object camerasArg, py::object seedArg) {
-        // Every option is checked before anything reaches the device.
-        auto bad = [](const std::string& what) { throw py::value_error(what); };
         if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
             throw py::type_error("progress: must be callable (progress(fraction)) or None, got a " +
                                  py::str(py::type::of(progress).attr("__name__")).cast<std::string>());
         const Scene& scene = *handle->scene;
         bool batch = !camerasArg.is_none();
-        std::vector<Camera> cameras;
-        if (batch) {
-            if (py::isinstance<py::str>(camerasArg) || !py::isinstance<py::iterable>(camerasArg))
-                bad("cameras: must be a list of Camera (e.g. scene.camera.copy())");
-            for (py::handle h : camerasArg) {
-                if (!py::isinstance<CameraView>(h))
-                    bad("cameras: must be a list of Camera (e.g. scene.camera.copy()), got a " +
-                        py::str(py::type::of(h).attr("__name__")).cast<std::string>());
-                cameras.push_back(h.cast<const CameraView&>().c());
-            }
-            if (cameras.empty()) bad("cameras: the list is empty");
-            for (const Camera& c : cameras)
-                if ((!width && c.width != cameras[0].width) || (!height && c.height != cameras[0].height))
-                    bad("cameras: of different image sizes (" + std::to_string(cameras[0].width) + "x" +
-                        std::to_string(cameras[0].height) + " and " + std::to_string(c.width) + "x" +
-                        std::to_string(c.height) + "); give width= and height=");
-        } else {
-            cameras.push_back(scene.camera);
-        }
-        auto side = [&](const char* name, std::optional<int> v, int fallback) {
-            int x = v.value_or(fallback);
-            if (x < 1 || x > int(gpu::kMaxImageSide))
-                bad(std::string(name) + ": must be in 1.." + std::to_string(gpu::kMaxImageSide) + ", got " + std::to_string(x));
-            return x;
-        };
-        RenderSettings s;
-        s.width = side("width", width, cameras[0].width);
-        s.height = side("height", height, cameras[0].height);
-        if (spp < 1 || spp > int(gpu::kMaxSamplesPerPixel))
-            bad("spp: must be in 1.." + std::to_string(gpu::kMaxSamplesPerPixel) + ", got " + std::to_string(spp));
-        s.samplesPerPixel = spp;
-        if (aa != "adaptive" && aa != "uniform") bad("aa: must be 'adaptive' or 'uniform', got '" + aa + "'");
-        s.antiAliasing = aa == "uniform" ? AntiAliasing::Uniform : AntiAliasing::Adaptive;
-        if (aaThreshold) {
-            if (!std::isfinite(*aaThreshold) || *aaThreshold < 0 || *aaThreshold > 1)
-                bad("aa_threshold: must be in [0, 1], got " + py::str(py::float_(*aaThreshold)).cast<std::string>());
-            s.aaThreshold = float(*aaThreshold);
-        }
-        if (maxDepth < 0 || maxDepth > int(gpu::kMaxDepthLimit))
-            bad("max_depth: must be in 0.." + std::to_string(gpu::kMaxDepthLimit) + ", got " + std::to_string(maxDepth));
-        s.maxDepth = maxDepth;
-        if (aovBounces < 0 || aovBounces > int(gpu::kAovBouncesMax))
-            bad("aov_bounces: must be in 0.." + std::to_string(gpu::kAovBouncesMax) + ", got " + std::to_string(aovBounces));
-        std::string list;
-        if (py::isinstance<py::str>(aovsArg)) {
-            list = aovsArg.cast<std::string>();
-        } else {
-            for (py::handle h : aovsArg) list += (list.empty() ? "" : ",") + py::str(h).cast<std::string>();
-            if (list.empty()) list = "none";
-        }
+        std::vector<Camera> cameras = batch ? batchCameras(camerasArg, width, height) : std::vector{scene.camera};
         std::vector<std::string> aovs;
-        try {
-            aovs = parseAovList(list, aovBounces);
-        } catch (const std::invalid_argument& e) {
-            bad(std::string("aovs: ") + e.what());
-        }
-        s.auxiliary = !aovs.empty();
-        s.aovBounces = hasSplitAov(aovs) ? aovBounces : 0;
-        s.ids = hasIdAov(aovs);
-        if (region) {
-            const std::vector<int>& r = *region;
-            if (r.size() != 4) bad("region: must be (x0, y0, x1, y1), got " + std::to_string(r.size()) + " numbers");
-            if (r[0] < 0 || r[1] < 0 || r[2] > s.width || r[3] > s.height || r[0] >= r[2] || r[1] >= r[3])
-                bad("region: " + std::to_string(r[0]) + "," + std::to_string(r[1]) + "," + std::to_string(r[2]) + "," +
-                    std::to_string(r[3]) + " is empty or outside the " + std::to_string(s.width) + "x" +
-                    std::to_string(s.height) + " image");
-            s.region = PixelRegion{r[0], r[1], r[2], r[3]};
-        }
-        if (trace != "auto" && trace != "bvh" && trace != "rayquery")
-            bad("trace: must be 'auto', 'bvh' or 'rayquery', got '" + trace + "'");
-        s.trace = trace == "rayquery" ? TracePath::RayQuery : trace == "bvh" ? TracePath::Bvh : TracePath::Auto;
-        // seed: FrameParams.seed, xor-ed into each pixel's pattern hash
-        // (whitted.comp): a function of the pixel and the seed only.
-        if (!py::isinstance<py::int_>(seedArg) || py::isinstance<py::bool_>(seedArg))
-            bad("seed: must be an integer in 0..4294967295");
-        {
-            py::int_ seedValue = seedArg.cast<py::int_>();
-            if (seedValue < py::int_(0) || seedValue > py::int_(0xFFFFFFFFu))
-                bad("seed: must be in 0..4294967295, got " + py::str(seedValue).cast<std::string>());
-            s.seed = seedValue.cast<uint32_t>();
-        }
+        RenderSettings s = renderSettings(cameras[0], width, height, spp, aa, aaThreshold, maxDepth, aovsArg,
+                                          aovBounces, region, trace, seedArg, aovs);
+        std::vector<ResultRef> results = renderEach(handle, s, aovs, cameras, batch, progress);
+        if (s.ids)
+            for (ResultRef& r : results) stableObjectIds(*r);
+        if (!batch) return py::cast(results[0]);
+        py::list out;
+        for (ResultRef& r : results) out.append(py::cast(r));
+        return out;
+    }
 
+    // Renders with the GIL released, one result per camera; the scene is
+    // uploaded (what changed of it) before the first.
+    std::vector<ResultRef> renderEach(const SceneRef& handle, const RenderSettings& s,
+                                      const std::vector<std::string>& aovs, const std::vector<Camera>& cameras,
+                                      bool batch, const py::object& progress) {
+        const Scene& scene = *handle->scene;
         // The renderer reads its own copy: the script may edit the scene
         // (or render it elsewhere) while this render runs.
         Scene copy = scene;
@@ -393,12 +422,7 @@ public:
                 results.push_back(std::move(result));
             }
         }
-        if (s.ids)
-            for (ResultRef& r : results) stableObjectIds(*r);
-        if (!batch) return py::cast(results[0]);
-        py::list out;
-        for (ResultRef& r : results) out.append(py::cast(r));
-        return out;
+        return results;
     }
 
     // What each ray hits first, found on the device by the tracer's own
