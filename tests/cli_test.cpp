@@ -1,5 +1,6 @@
 // The `whitted` executable as a user runs it: exit statuses, messages, the
 // files it writes and the files it must not create or clobber.
+#include "gltf_documents.h"
 #include "test_support.h"
 
 #include "output/aov_output.h"
@@ -85,6 +86,37 @@ TEST(Cli, RenderWritesMainAndAuxiliaryImages) {
         EXPECT_TRUE(fs::exists(dir / name)) << name;
     for (const auto& entry : fs::directory_iterator(dir))
         EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos) << entry.path();
+}
+
+// A model whose degenerate triangles lie in several nodes: one warning line
+// with the totals; -v adds each node's line under it, indented; the render
+// record keeps both either way.
+TEST(Cli, DegenerateTrianglesOfSeveralNodesAreOneWarningLine) {
+    fs::path dir = scratchDir("degenerate_summary");
+    writeJson(dir / "flat.gltf", flattenedNodesDocument());
+    auto warningLines = [](const std::string& output) {
+        std::vector<std::string> lines;
+        std::istringstream in(output);
+        for (std::string line; std::getline(in, line);)
+            if (line.starts_with("warning: ") || line.starts_with("  ")) lines.push_back(line);
+        return lines;
+    };
+    const std::string summary = "flat.gltf: 4 degenerate triangles skipped in 2 nodes";
+    const std::vector<std::string> details = {"flat.gltf: node \"node 0\": 2 degenerate triangles skipped",
+                                              "flat.gltf: node \"flat\": 2 degenerate triangles skipped"};
+    const std::string args = "render flat.gltf -o out.png --width 16 --height 12 --aov none -q";
+    CommandRun r = runWhitted(args, dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(warningLines(r.output), std::vector<std::string>{"warning: " + summary}) << r.output;
+    Json record = Json::parse(readText(dir / "out.json"));
+    EXPECT_EQ(record["warnings"], Json::array({summary}));
+    EXPECT_EQ(record["warning_details"], Json(details));
+
+    r = runWhitted(args + " -v", dir);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(warningLines(r.output),
+              (std::vector<std::string>{"warning: " + summary, "  " + details[0], "  " + details[1]}))
+        << r.output;
 }
 
 TEST(Cli, AovListSelectsImagesAndExrIsFloat) {

@@ -43,6 +43,18 @@ inline Json squareDocument(bool embedded = true, const std::vector<unsigned char
     return j;
 }
 
+// The square in three nodes: "node 0" flattened onto the x axis, the
+// second whole, "flat" flattened onto the y axis; each flattened one has
+// two degenerate triangles.
+inline Json flattenedNodesDocument() {
+    Json j = squareDocument();
+    j["nodes"] = Json::array({{{"mesh", 0}, {"scale", {1, 1e-200, 1}}},
+                              {{"mesh", 0}, {"scale", {1, 1, 1}}},
+                              {{"mesh", 0}, {"name", "flat"}, {"scale", {1e-200, 1, 1}}}});
+    j["scenes"] = Json::array({{{"nodes", {0, 1, 2}}}});
+    return j;
+}
+
 // A chain of `depth` nodes, each the only child of the one before, the
 // last holding the square, each moving it by 0.001 along x.
 inline Json chain(size_t depth) {

@@ -6,6 +6,7 @@
 #include "scene/scene.h"
 #include "scene/scene_error.h"
 #include "scene/authored_scene.h"
+#include "scene/mesh_objects.h"
 #include "gltf_documents.h"
 #include "test_support.h"
 
@@ -181,6 +182,32 @@ TEST(GltfHardening, GlbLengthsAndTruncations) {
         std::string message = refusal(file);
         EXPECT_EQ(message.rfind(file.string() + ": ", 0), 0u) << cut << ": " << message;
     }
+}
+
+// Degenerate triangles in several nodes make one warning with the totals;
+// each node's line is a detail (Scene::warningDetails: `whitted render -v`
+// prints them, the render record keeps them). A single node keeps its own
+// line as the warning (MeshesAreCheckedWherePlaced).
+TEST(GltfHardening, DegenerateTrianglesOfSeveralNodesAreOneWarning) {
+    fs::path dir = scratch("several_flat");
+    fs::path file = writeJson(dir / "flat.gltf", flattenedNodesDocument());
+    AuthoredScene loaded = loadGltfScene(file);
+    EXPECT_EQ(loaded.scene.objects.size(), 1u);
+    EXPECT_EQ(loaded.scene.warnings,
+              std::vector<std::string>{file.string() + ": 4 degenerate triangles skipped in 2 nodes"});
+    EXPECT_EQ(loaded.scene.warningDetails,
+              (std::vector<std::string>{file.string() + ": node \"node 0\": 2 degenerate triangles skipped",
+                                        file.string() + ": node \"flat\": 2 degenerate triangles skipped"}));
+}
+
+// The counts in these warnings, as a person reads them.
+TEST(GltfHardening, SkippedTrianglesAreCountedWithThousandsGrouped) {
+    EXPECT_EQ(skippedTriangles(1), "1 degenerate triangle skipped");
+    EXPECT_EQ(skippedTriangles(2345), "2,345 degenerate triangles skipped");
+    EXPECT_EQ(withThousands(0), "0");
+    EXPECT_EQ(withThousands(999), "999");
+    EXPECT_EQ(withThousands(1000), "1,000");
+    EXPECT_EQ(withThousands(1234567), "1,234,567");
 }
 
 // Node transforms multiply, so where a mesh lands is checked once placed

@@ -1,6 +1,7 @@
 #include "app/cli_options.h"
 
 #include <charconv>
+#include <iostream>
 #include <stdexcept>
 
 namespace whitted {
@@ -23,6 +24,12 @@ PixelRegion parsePixelRegion(const std::string& text) {
     }
     if (at != end) throw refused();
     return {v[0], v[1], v[2], v[3]};
+}
+
+void printSceneWarnings(const Scene& scene, bool verbose) {
+    for (const std::string& warning : scene.warnings) std::cerr << "warning: " << warning << "\n";
+    if (verbose)
+        for (const std::string& detail : scene.warningDetails) std::cerr << "  " << detail << "\n";
 }
 
 }  // namespace whitted

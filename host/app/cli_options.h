@@ -4,6 +4,7 @@
 #include <string>
 
 #include "render/render_settings.h"
+#include "scene/scene.h"
 #include "vk/context.h"  // validationFromEnvironment, which the commands use with these
 
 namespace whitted {
@@ -13,5 +14,9 @@ namespace whitted {
 // Whether the region lies in the image is the renderer's check (it knows
 // the image's size).
 PixelRegion parsePixelRegion(const std::string& text);
+
+// The scene's warnings on stderr, a "warning: " line each; with `verbose`,
+// then the lines they sum up (Scene::warningDetails), indented.
+void printSceneWarnings(const Scene& scene, bool verbose);
 
 }  // namespace whitted

@@ -2,6 +2,7 @@
 // scene file, a model file through its quick look) written as a whitted
 // scene file by the scene writer the window's Save uses, so that it can be
 // edited and renders as the input does.
+#include "app/cli_options.h"
 #include "app/commands.h"
 #include "scene/quick_look.h"
 #include "scene/scene_error.h"
@@ -29,7 +30,7 @@ int runConvert(const ConvertOptions& options) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
     }
-    for (const std::string& warning : scene.warnings) std::cerr << "warning: " << warning << "\n";
+    printSceneWarnings(scene, false);
     std::filesystem::path folder = options.output.parent_path().empty() ? "." : options.output.parent_path();
     if (!std::filesystem::is_directory(folder)) {
         std::cerr << "whitted: " << options.output.string() << ": the folder " << folder.string()

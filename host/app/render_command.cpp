@@ -40,6 +40,7 @@ struct RenderCommandOptions {
     std::string device;
     bool validation = false;
     bool quiet = false;
+    bool verbose = false;  // -v: the lines summary warnings stand for
     std::string camera;    // --camera INDEX|NAME
     double exposure = 0;   // --exposure EV
 };
@@ -107,7 +108,7 @@ public:
             return kExitBadInput;
         }
         loadSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - loadStart).count();
-        for (const std::string& warning : scene_.warnings) std::cerr << "warning: " << warning << "\n";
+        printSceneWarnings(scene_, options_.verbose);
         if (options_.output)
             if (auto problem = checkOutputPlace(*options_.output)) {
                 std::cerr << "whitted: " << *problem << "\n";
@@ -227,7 +228,8 @@ private:
         return renderRecordJson({.scenePath = options_.scene, .settings = settings_,
                                  .tonemap = tonemapName(options_.tonemap), .device = contexts_.front()->deviceInfo(),
                                  .sharedWith = sharedWith, .result = &result_, .files = files_,
-                                 .loadSeconds = loadSeconds_, .masks = settings_.ids ? &scene_ : nullptr,
+                                 .loadSeconds = loadSeconds_, .warnings = scene_.warnings,
+                                 .warningDetails = scene_.warningDetails, .masks = settings_.ids ? &scene_ : nullptr,
                                  .exposure = options_.exposure, .camera = options_.camera});
     }
 
@@ -361,6 +363,9 @@ Command addRenderCommand(CLI::App& app) {
         ->check(finiteNumber())->check(CLI::Range(-64.0, 64.0))->capture_default_str();
     cmd->add_flag("--validate", render.validation, "enable the Khronos validation layer; fail on any message");
     cmd->add_flag("-q,--quiet", render.quiet, "no progress or summary");
+    cmd->add_flag("-v,--verbose", render.verbose,
+                  "after a warning that sums up many (a glTF file's degenerate triangles), each line it sums up "
+                  "(the render record keeps them either way)");
     return {cmd, [args] { return args->run(); }};
 }
 

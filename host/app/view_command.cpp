@@ -28,7 +28,7 @@ int runViewCommand(const ViewOptions& given) {
         std::cerr << e.what() << "\n";
         return kExitBadInput;
     }
-    for (const std::string& warning : scene.warnings) std::cerr << "warning: " << warning << "\n";
+    printSceneWarnings(scene, false);
     std::vector<ScriptCommand> script;
     if (options.script) {
         try {

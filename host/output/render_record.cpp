@@ -110,6 +110,9 @@ std::string renderRecordJson(const RenderRecord& r) {
         {"files", files},
     };
     if (r.masks) j["masks"] = maskLegend(*r.masks);
+    // Only where the scene had warnings: the record of a clean scene is unchanged.
+    if (!r.warnings.empty()) j["warnings"] = r.warnings;
+    if (!r.warningDetails.empty()) j["warning_details"] = r.warningDetails;
     // A path that is not valid UTF-8 is written with U+FFFD rather than refused.
     return j.dump(2, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
 }

@@ -26,6 +26,9 @@ struct RenderRecord {
     const RenderResult* result = nullptr;
     std::vector<std::filesystem::path> files;
     double loadSeconds = 0;  // reading and checking the scene file
+    // The scene's warnings and the lines they sum up (Scene::warningDetails).
+    std::vector<std::string> warnings;
+    std::vector<std::string> warningDetails;
     // With mask images (object_id, material_id): the scene whose objects and
     // materials their ids index; the record then lists them ("masks").
     const Scene* masks = nullptr;

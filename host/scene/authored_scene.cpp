@@ -174,6 +174,72 @@ Mesh meshFromGltfPrimitive(const GltfPrimitive& prim, const glm::dmat4& world, b
     return out;
 }
 
+namespace {
+
+// A node's mesh: an object per primitive with indices, placed by the
+// node's world transform. Returns how many triangles were degenerate once
+// placed; they are dropped.
+size_t addNodeMesh(const GltfFile& file, int meshIndex, const std::string& nodeName, const glm::dmat4& world,
+                   const std::vector<Material>& materials, const std::filesystem::path& absolutePath,
+                   const std::string& where, Scene& scene) {
+    size_t skippedTotal = 0;
+    const GltfMesh& mesh = file.meshes[size_t(meshIndex)];
+    for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+        const GltfPrimitive& prim = mesh.primitives[p];
+        if (prim.indices.empty()) continue;
+        Object object;
+        object.name = nodeName + (mesh.primitives.size() > 1 ? " primitive " + std::to_string(p) : "");
+        if (prim.material >= 0) {
+            object.material = materials[size_t(prim.material)];
+        } else {  // no material: white Lambert (the specification's default, a rough metal, is black here)
+            object.material.ambient = 0;
+        }
+        bool textured = object.material.textured();
+        if (textured && prim.uvs.empty()) {
+            scene.warnings.push_back(where + ": node \"" + nodeName +
+                                     "\": its textures are not used: the primitive has no TEXCOORD_0");
+            object.material.dropTextures();
+            textured = false;
+        }
+        size_t skipped = 0;
+        Mesh out = meshFromGltfPrimitive(prim, world, textured, bool(object.material.normalMap), skipped);
+        for (const Triangle& t : out.triangles)
+            for (const glm::dvec3& v : {t.v0, t.v1, t.v2})
+                if (!withinMagnitude(v))
+                    throw SceneError(where, 0, "node \"" + nodeName + "\": a vertex is placed beyond ±1e6");
+        skippedTotal += skipped;
+        if (out.triangles.empty()) continue;
+        // Written back by the scene writer as <file part="mesh M primitive P"> with <matrix>.
+        out.source = Mesh::FileSource{absolutePath, glm::dvec3(0), glm::dvec3(1), glm::dvec3(0), -1,
+                                      gltfPartName(size_t(meshIndex), p), world};
+        object.shape = std::move(out);
+        scene.objects.push_back(std::move(object));
+    }
+    return skippedTotal;
+}
+
+// The file's degenerate triangles in one warning: a node's own line when
+// only one node had any, else the totals, with each node's line a detail
+// (Scene::warningDetails).
+void warnSkippedTriangles(const std::string& where, const std::vector<std::pair<std::string, size_t>>& byNode,
+                          Scene& scene) {
+    if (byNode.empty()) return;
+    std::vector<std::string> lines;
+    uint64_t total = 0;
+    for (const auto& [nodeName, skipped] : byNode) {
+        lines.push_back(where + ": node \"" + nodeName + "\": " + skippedTriangles(skipped));
+        total += skipped;
+    }
+    if (lines.size() == 1) {
+        scene.warnings.push_back(lines.front());
+        return;
+    }
+    scene.warnings.push_back(where + ": " + skippedTriangles(total) + " in " + withThousands(lines.size()) + " nodes");
+    scene.warningDetails.insert(scene.warningDetails.end(), lines.begin(), lines.end());
+}
+
+}  // namespace
+
 AuthoredScene loadGltfScene(const std::filesystem::path& path) {
     GltfFile file;
     try {
@@ -190,6 +256,7 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
     for (const GltfMaterial& m : file.materials) materials.push_back(materialFromGltf(m));
     const std::string where = path.string();
     const std::filesystem::path absolutePath = std::filesystem::absolute(path).lexically_normal();
+    std::vector<std::pair<std::string, size_t>> skippedByNode;  // the nodes with degenerate triangles
 
     // One node with its world transform; the tree is walked below without
     // recursion (the reader bounds its depth, io/gltf_file.h).
@@ -237,42 +304,9 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
                 throw SceneError(where, 0, "node \"" + nodeName + "\": its light is placed beyond ±1e6");
             scene.lights.push_back(light);
         }
-        if (node.mesh >= 0) {
-            const GltfMesh& mesh = file.meshes[size_t(node.mesh)];
-            for (size_t p = 0; p < mesh.primitives.size(); ++p) {
-                const GltfPrimitive& prim = mesh.primitives[p];
-                if (prim.indices.empty()) continue;
-                Object object;
-                object.name = nodeName + (mesh.primitives.size() > 1 ? " primitive " + std::to_string(p) : "");
-                if (prim.material >= 0) {
-                    object.material = materials[size_t(prim.material)];
-                } else {  // no material: white Lambert (the specification's default, a rough metal, is black here)
-                    object.material.ambient = 0;
-                }
-                bool textured = object.material.textured();
-                if (textured && prim.uvs.empty()) {
-                    scene.warnings.push_back(where + ": node \"" + nodeName +
-                                             "\": its textures are not used: the primitive has no TEXCOORD_0");
-                    object.material.dropTextures();
-                    textured = false;
-                }
-                size_t skipped = 0;
-                Mesh out = meshFromGltfPrimitive(prim, world, textured, bool(object.material.normalMap), skipped);
-                for (const Triangle& t : out.triangles)
-                    for (const glm::dvec3& v : {t.v0, t.v1, t.v2})
-                        if (!withinMagnitude(v))
-                            throw SceneError(where, 0, "node \"" + nodeName + "\": a vertex is placed beyond ±1e6");
-                if (skipped > 0)
-                    scene.warnings.push_back(where + ": node \"" + nodeName + "\": " + std::to_string(skipped) +
-                                             " degenerate triangle" + (skipped > 1 ? "s" : "") + " skipped");
-                if (out.triangles.empty()) continue;
-                // Written back by the scene writer as <file part="mesh M primitive P"> with <matrix>.
-                out.source = Mesh::FileSource{absolutePath, glm::dvec3(0), glm::dvec3(1), glm::dvec3(0), -1,
-                                              gltfPartName(size_t(node.mesh), p), world};
-                object.shape = std::move(out);
-                scene.objects.push_back(std::move(object));
-            }
-        }
+        if (node.mesh >= 0)
+            if (size_t skipped = addNodeMesh(file, node.mesh, nodeName, world, materials, absolutePath, where, scene))
+                skippedByNode.emplace_back(nodeName, skipped);
     };
     // Depth first, each node before its children and children in order, as
     // the file lists them (the order objects are numbered in).
@@ -287,6 +321,7 @@ AuthoredScene loadGltfScene(const std::filesystem::path& path) {
         for (auto c = children.rbegin(); c != children.rend(); ++c)
             open.emplace_back(*c, world * file.nodes[size_t(*c)].local);
     }
+    warnSkippedTriangles(where, skippedByNode, scene);
     if (scene.objects.empty()) throw SceneError(where, 0, "has no triangles in its scene");
     return out;
 }
@@ -430,9 +465,7 @@ AuthoredScene loadObjMtlScene(const std::filesystem::path& path) {
                 mesh.tangents.push_back(data.tangents.empty() ? std::array<glm::dvec3, 3>{} : data.tangents[t]);
         }
     }
-    if (skipped > 0)
-        scene.warnings.push_back(where + ": " + std::to_string(skipped) + " degenerate triangle" +
-                                 (skipped > 1 ? "s" : "") + " skipped");
+    if (skipped > 0) scene.warnings.push_back(where + ": " + skippedTriangles(skipped));
     // Written back by the scene writer as <file part="material NAME">: a
     // material with a name of its own (Assimp's stand-in for triangles
     // without one has none, and a name used twice would take both).

@@ -277,9 +277,7 @@ Mesh readGltfPart(const Diagnostics& diag, const XMLElement* e, const Placement&
     size_t skipped = 0;
     Mesh mesh = meshFromGltfPrimitive(primitive, world, textured, normalMapped, skipped);
     if (mesh.triangles.empty()) diag.fail(e, name + ": every triangle of part \"" + part + "\" is degenerate");
-    if (skipped > 0)
-        diag.warn(e, name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
-                         " skipped");
+    if (skipped > 0) diag.warn(e, name + ": " + skippedTriangles(skipped));
     for (Triangle& t : mesh.triangles) {
         if (placement.position != glm::dvec3(0))
             for (glm::dvec3* v : {&t.v0, &t.v1, &t.v2}) *v += placement.position;
@@ -474,9 +472,7 @@ Mesh meshFromFileElement(const Diagnostics& diag, const XMLElement* e, const Pla
     mesh.source = Mesh::FileSource{std::filesystem::absolute(ref.path).lexically_normal(), placement.position,
                                    placement.scale, placement.rotationDegrees, -1, ref.part, placement.matrix};
     keepFileMaterials(read, fileMaterials);
-    if (skipped > 0)
-        diag.warn(e, ref.name + ": " + std::to_string(skipped) + " degenerate triangle" + (skipped > 1 ? "s" : "") +
-                         " skipped");
+    if (skipped > 0) diag.warn(e, ref.name + ": " + skippedTriangles(skipped));
     return mesh;
 }
 
@@ -486,6 +482,19 @@ bool degenerate(const Triangle& t) {
     glm::dvec3 e1 = t.v1 - t.v0, e2 = t.v2 - t.v0, e3 = t.v2 - t.v1;
     double scale = std::max({glm::dot(e1, e1), glm::dot(e2, e2), glm::dot(e3, e3)});
     return !(glm::length(glm::cross(e1, e2)) > kDegenerateTolerance * scale);
+}
+
+std::string withThousands(uint64_t n) {
+    std::string digits = std::to_string(n), out;
+    for (size_t i = 0; i < digits.size(); ++i) {
+        if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+        out += digits[i];
+    }
+    return out;
+}
+
+std::string skippedTriangles(uint64_t count) {
+    return withThousands(count) + " degenerate triangle" + (count == 1 ? "" : "s") + " skipped";
 }
 
 Triangle readTriangle(const Diagnostics& diag, const XMLElement* parent, const std::vector<const XMLElement*>& vertices,

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <string>
 #include <tuple>
 #include <vector>
 
@@ -21,6 +22,13 @@ namespace whitted {
 // Zero area relative to its size: |cross(e1, e2)| at most 1e-12 times its
 // longest squared edge.
 bool degenerate(const Triangle& t);
+
+// A count with its thousands grouped by commas: 2345 -> "2,345".
+std::string withThousands(uint64_t n);
+
+// What a warning about dropped triangles says: "1 degenerate triangle
+// skipped", "2,345 degenerate triangles skipped".
+std::string skippedTriangles(uint64_t count);
 
 // The three <vertex> elements of `parent`, each moved by `offset`; another
 // count is refused.

@@ -284,6 +284,10 @@ struct Scene {
     std::vector<Light> lights;
     std::vector<Object> objects;
     std::vector<std::string> warnings;  // degenerate but legal input
+    // The lines a summary warning stands for (each glTF node's degenerate
+    // triangles): shown by `whitted render --verbose` and kept in the render
+    // record, so that a long list does not bury the other warnings.
+    std::vector<std::string> warningDetails;
 };
 
 }  // namespace whitted

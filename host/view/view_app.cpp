@@ -392,6 +392,8 @@ void ViewApp::saveImages() {
                             .sharedWith = {},
                             .result = &result,
                             .files = files,
+                            .warnings = scene_.warnings,
+                            .warningDetails = scene_.warningDetails,
                             .masks = &scene_,
                             .exposure = options_.exposure,
                             .camera = options_.camera};
