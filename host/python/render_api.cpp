@@ -122,13 +122,15 @@ struct Result {
     DeviceInfo device;
     nlohmann::json uploads;
     double loadSeconds = 0;
+    std::vector<std::string> warnings, warningDetails;  // the scene's, as the CLI's record has them
     py::object image, aovArrays, record;  // made on first use
 
     std::string recordJson(const std::vector<std::filesystem::path>& files, const std::string& tonemap) const {
         nlohmann::json j = nlohmann::json::parse(renderRecordJson({.scenePath = scenePath, .settings = settings,
                                                                    .tonemap = tonemap, .device = device, .sharedWith = {},
                                                                    .result = &stats, .files = files,
-                                                                   .loadSeconds = loadSeconds,
+                                                                   .loadSeconds = loadSeconds, .warnings = warnings,
+                                                                   .warningDetails = warningDetails,
                                                                    .masks = masksScene.get(), .exposure = 0,
                                                                    .camera = {}}));
         if (masksScene) {  // the legend numbers objects as the mask does (stableObjectIds)
@@ -392,6 +394,8 @@ public:
                 result->settings = s;
                 result->aovs = aovs;
                 result->scenePath = scene.sourcePath;
+                result->warnings = scene.warnings;
+                result->warningDetails = scene.warningDetails;
                 result->device = ctx_->deviceInfo();
                 result->masksScene = masksScene;
                 if (s.ids) result->objectIds = objectIds;
