@@ -67,8 +67,9 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                 }
             } else if (!box) {
                 // The winding's normal, as intersectTriangle gives it.
-                vec3 a = primitives[i].a.xyz;
-                n = cross(primitives[i].b.xyz - a, primitives[i].c.xyz - a);
+                Primitive p = primitives[i];
+                vec3 a = triangleV0(p);
+                n = cross(triangleV1(p) - a, triangleV2(p) - a);
                 blocked = !shadowCrossing(i, ray, rayQueryGetIntersectionTEXT(query, false), n, transmittance,
                                           opticalDepth) || blocked;
             }
@@ -102,7 +103,8 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     hit.t = rayQueryGetIntersectionTEXT(query, true);
     hit.primitive = i;
     if (committed == gl_RayQueryCommittedIntersectionTriangleEXT) {
-        vec3 v0 = primitives[i].a.xyz, v1 = primitives[i].b.xyz, v2 = primitives[i].c.xyz;
+        Primitive p = primitives[i];
+        vec3 v0 = triangleV0(p), v1 = triangleV1(p), v2 = triangleV2(p);
         hit.normal = normalize(cross(v1 - v0, v2 - v0));
     } else {
         hit.normal = boxNormal;

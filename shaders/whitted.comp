@@ -7,7 +7,8 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_basic : require
 
-#include "device_types.h"
+#include "tracer_types.h"
+#include "tracer_buffers.glsl"
 #include "camera.glsl"
 #include "color.glsl"
 #include "sampling.glsl"
@@ -295,7 +296,7 @@ bool shadeHit(inout PendingRay pending, bool probing, SampleWalk s, out ShadedHi
             break;
 #endif
             if (probing) {  // the probe takes the ids of what it hit, nothing else
-                ids = uvec2(primitives[hit.primitive].extra1, primitives[hit.primitive].material);
+                ids = uvec2(primitiveObject(primitives[hit.primitive]), primitives[hit.primitive].material);
                 break;
             }
             if (!surfaceAt(pending, hit, s.lens, h, result)) break;

@@ -1,6 +1,8 @@
 #include "render/gpu_scene.h"
 
+#include "display_types.h"  // DisplayParams, laid out here with the others
 #include "shapes/shapes.h"
+#include "tracer_types.h"
 
 #include <algorithm>
 #include <bit>
@@ -14,7 +16,8 @@ namespace whitted {
 
 // The GLSL side reads these with std430 (storage, push constants) and
 // std140 (uniform) rules; every size and offset below is the one those
-// rules give the GLSL declaration (shaders/device_types.h).
+// rules give the GLSL declaration (shaders/device_types.h, tracer_types.h,
+// display_types.h).
 static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, a) == 0 &&
               offsetof(gpu::Primitive, b) == 16 && offsetof(gpu::Primitive, c) == 32 &&
               offsetof(gpu::Primitive, shape) == 48 && offsetof(gpu::Primitive, material) == 52 &&
@@ -375,7 +378,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
             primitives.push_back(packCsg(*c, material, csg));
             bounds.push_back(boundsCsg(*c));
             for (size_t k = firstLeaf; k < csg.leaves.size(); ++k) {
-                csg.leaves[k].extra1 = objectIndex;
+                gpu::setPrimitiveObject(csg.leaves[k], objectIndex);
                 leafInObject.push_back(uint32_t(k - firstLeaf));
             }
         } else if (const BvhPartCache::Entry* part = parts && settings.useBvh
@@ -384,7 +387,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
             primitives.insert(primitives.end(), part->primitives.begin(), part->primitives.end());
             for (size_t k = first; k < primitives.size(); ++k) {
                 primitives[k].material = material;
-                primitives[k].extra1 = objectIndex;
+                gpu::setPrimitiveObject(primitives[k], objectIndex);
             }
             partRanges.push_back({uint32_t(first), uint32_t(part->primitives.size()), part});
             // Each triangle's index in the mesh: the part's leaf order.
@@ -396,7 +399,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
             continue;
         } else {
             appendPrimitives(object.shape, material, primitives, bounds);
-            for (size_t k = first; k < primitives.size(); ++k) primitives[k].extra1 = objectIndex;
+            for (size_t k = first; k < primitives.size(); ++k) gpu::setPrimitiveObject(primitives[k], objectIndex);
         }
         for (size_t k = first; k < primitives.size(); ++k) g.primitiveInObject.push_back(uint32_t(k - first));
         if (!attributes) continue;
@@ -495,11 +498,11 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
         permuteInPlace(g.primitiveInObject, sourceCopy);
     }
     permuteInPlace(g.primitives, source);
-    // The csg leaves after every other primitive; each csg primitive's a.w
-    // becomes the index of its first leaf there.
+    // The csg leaves after every other primitive; each csg primitive's first
+    // leaf becomes its index there.
     uint32_t leafBase = uint32_t(g.primitives.size());
     for (gpu::Primitive& p : g.primitives)
-        if (p.shape == gpu::kShapeCsg) p.a.w = glm::uintBitsToFloat(leafBase + glm::floatBitsToUint(p.a.w));
+        if (p.shape == gpu::kShapeCsg) gpu::setCsgFirstLeaf(p, leafBase + gpu::csgLeaves(p).x);
     g.primitives.insert(g.primitives.end(), csg.leaves.begin(), csg.leaves.end());
     g.primitiveInObject.insert(g.primitiveInObject.end(), leafInObject.begin(), leafInObject.end());
     g.csgNodes = std::move(csg.nodes);
