@@ -6,8 +6,10 @@
 // the bounded triangles as native triangles and the other bounded shapes
 // (spheres, cylinders, boxes, csg objects) as AABBs. Both BLASes list every bounded
 // primitive in the order of the Primitive array, those of the other kind
-// inactive (NaN vertices) or empty (a point box for a triangle: NaN boxes
-// made lavapipe miss them all), so a primitive index from the query IS the
+// stand-ins no ray hits (a zero-area triangle at another shape's first
+// point, a point box at a triangle's first vertex: lavapipe misses every
+// primitive of a structure that holds NaN ones, the spec's inactive
+// primitives), so a primitive index from the query IS the
 // index into primitives[]; shading is unchanged. Planes stay outside, one
 // by one.
 //

@@ -18,11 +18,12 @@ layout(set = 0, binding = kBindingTlas) uniform accelerationStructureEXT sceneTl
 // bufferDeviceAddress), not descriptors: a storage buffer descriptor spans
 // at most maxStorageBufferRange (128 MiB on lavapipe, 2^21 primitives), an
 // address a whole VkBuffer. The driver turns an index into a byte address
-// in 64 bits, so no offset overflows past 4 GiB. The macros keep the names
-// of the former storage buffers, and members are still read one by one
-// (primitives[i].a): a load fetches only the words it names
-// (intersect.glsl). On lavapipe these loads are also faster than storage
-// buffer loads, which it bounds-checks lane by lane (tools/benchmark_results/README.md, "Profiling and what each change gained").
+// in 64 bits, so no offset overflows past 4 GiB. The macros name the arrays
+// as the storage-buffer variant's blocks do. A primitive is read through
+// its shape's accessors (device_types.h), and the driver loads only the
+// words those use (intersect.glsl). Lavapipe gathers an address load in one
+// vector instruction, where it bounds-checks a storage buffer load lane by
+// lane (measurements: tools/benchmark_results/notes-shader.md).
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PrimitiveArray { Primitive v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MaterialArray { Material v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer LightArray { Light v[]; };

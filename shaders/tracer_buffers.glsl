@@ -14,9 +14,9 @@ layout(std430, set = 0, binding = kBindingSampleStats) buffer StatsBlock { uvec4
 layout(push_constant) uniform TileBlock { TileParams tileParams; };
 
 // The per-pixel buffers likewise (FrameParams.outputAddress ...): lavapipe compiles a storage buffer access
-// into a loop over the lanes, each bounds-checked, and an address into one gather or scatter. Through
-// storage buffers, the writes of the auxiliary layers alone took 0.8 s of the first render's 2.4 s
-// compile (scenes/room.xml); by address, 0.1 s.
+// into a loop over the lanes, each bounds-checked, and an address into one gather or scatter, so by address
+// the writes of the auxiliary layers add little to the pipeline's compile
+// (measurements: tools/benchmark_results/notes-shader.md).
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer OutputArray { vec4 v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer PixelListArray { uint v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer GuideArray { uvec4 v[]; };

@@ -268,9 +268,10 @@ bool surfaceAt(inout PendingRay pending, Hit hit, bool lens, out ShadedHit h, in
 // the hit's shadow rays (shading.glsl, nextShadowRay) are traced after it,
 // each through the same call of traceQuery as the ray itself, so the driver
 // compiles one copy of the BVH walk where a closest-hit query and a shadow
-// query inside the light loop would inline one each. On lavapipe that made
-// renders 11-44% faster (tools/benchmark_results/README.md, "Profiling and
-// what each change gained") and left the first render's compile as it was.
+// query inside the light loop would inline one each. On a SIMD CPU driver
+// (lavapipe) lanes in two walks take turns, each walk run under a mask;
+// in one walk they step together (measurements:
+// tools/benchmark_results/notes-shader.md).
 // False when there is nothing to shade: a miss (the background is black, and the probe's ids stay
 // kNoObject), the probe or a pinhole ray.
 bool shadeHit(inout PendingRay pending, bool probing, SampleWalk s, out ShadedHit h, inout SampleResult result,
@@ -570,7 +571,7 @@ void main() {
 
     // One atomic add per counter and subgroup, not per invocation: lavapipe
     // runs a per-invocation atomic lane by lane, on a counter that the other
-    // cores' threads add to as well (tools/benchmark_results/README.md, "Profiling and what each change gained").
+    // cores' threads add to as well (tools/benchmark_results/notes-shader.md).
     uvec3 groupCount = subgroupAdd(rayCount);
     if (subgroupElect()) {
         atomicAdd(counters.primary, groupCount.x);
