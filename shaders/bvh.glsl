@@ -16,9 +16,10 @@
 // interval as hits are found, shadow rays stop at the first opaque hit and
 // take the children in slot order. Unlike Ylitie et al., the stack holds
 // one entry per child (with its entry distance, below), not a node and a
-// mask of hit children ordered by the ray's octant. On lavapipe a step
-// gathers five 16-byte words where the 4-wide tree of 32-byte child nodes
-// before it gathered eight (measured: see tools/benchmark_results/README.md).
+// mask of hit children ordered by the ray's octant. A step gathers one node,
+// five 16-byte words, where a 4-wide tree of 32-byte child nodes gathers
+// eight: lavapipe gathers a loaded word lane by lane, so the words a step
+// loads bound its cost (measurements: tools/benchmark_results/notes-shader.md).
 // Stacked entries keep their entry distance, and a closest-hit ray drops a
 // popped entry that lies behind its nearest hit so far, as Embree's
 // traversal does (Wald et al., "Embree: A Kernel Framework for Efficient CPU
@@ -38,9 +39,9 @@ vec3 safeInverse(vec3 d) {
 // Lavapipe runs either as a load per lane: Mesa 25.0 gathers a device
 // address in one vector instruction and loops over the lanes for a storage
 // buffer (bounds-checked each); Mesa 22.3 loops over the lanes for both,
-// once per 32-bit word of a device address, and walks faster through
-// the storage buffer (measured: see tools/benchmark_results/README.md). A
-// variant, so that the default shader is the one measured on Mesa 25.
+// once per 32-bit word of a device address, so there the storage buffer is
+// the cheaper of the two (tools/benchmark_results/notes-shader.md). A
+// variant, so that the default shader reads addresses, the cheaper on Mesa 25.
 #ifdef WHITTED_SCENE_STORAGE_BUFFERS
 #define bvhWalkNodes bvhNodeBuffer
 #else
@@ -87,10 +88,11 @@ const uint kNoEntry = 0xffffffffu;
 //    divides exactly). Growing each exit distance by (1 + 2 gamma(7))
 //    makes it at least any computed entry distance of an exactly
 //    overlapping interval, so a ray grazing a box face (a triangle lying
-//    on a node's grid plane) still enters it. Before this, a bound was
-//    fma(q, scale, origin - ray origin): origin - ray origin rounds with an
-//    error relative to the ray's distance to the node's origin, not to the
-//    bound's, which no relative widening of t covers.
+//    on a node's grid plane) still enters it. A bound is therefore not
+//    computed as fma(q, scale, origin - ray origin): origin - ray origin
+//    would round with an error relative to the ray's distance to the node's
+//    origin, not to the bound's, which no relative widening of t covers
+//    (tools/benchmark_results/notes-shader.md).
 // 2 gamma(7) = 14 u / (1 - 7 u) is a hair above 7 * 2^-23; the factor is
 // 1 + 8 * 2^-23, the next float up, which also covers the rounding of the
 // growth's own product. `precise` keeps the compiler from reassociating

@@ -7,11 +7,10 @@
 // renderer's descriptor set and with its specialization constants. It
 // writes what it hits as the tracer sees it: the distance, the geometric
 // normal, the texture coordinates surfaceUv gives and the object's index of
-// the object_id mask (Primitive.extra1).
+// the object_id mask (primitiveObject).
 #extension GL_GOOGLE_include_directive : require
 
-#define WHITTED_NO_TILE_PARAMS  // the push constants are CastParams
-#include "device_types.h"
+#include "ray_cast_types.h"
 #include "intersect.glsl"
 
 layout(local_size_x = kCastGroupSize, local_size_y = 1, local_size_z = 1) in;
@@ -34,7 +33,7 @@ void main() {
         result.normal = normalize(hit.normal);
         result.t = hit.t;
         result.uv = s.uv;
-        result.object = prim.extra1;
+        result.object = primitiveObject(prim);
         result.primitive = hit.primitive;
     }
     CastHitArray(castParams.hitAddress).v[i] = result;

@@ -1,14 +1,25 @@
-// GPU data layout shared by the C++ host and the GLSL shaders: structs,
-// binding numbers, AOV layers and the work-group size are declared once here
-// (the nvpro-samples host_device.h pattern). Every field has a name. The
-// structs are laid out so that std430 (std140 for FrameParams) and C++ agree
-// without GL_EXT_scalar_block_layout: each 16 bytes hold a vec4, a vec3 and
-// a 4-byte scalar, two vec2s or four scalars, with explicit pad fields where
-// a slot is unused. The host side static_asserts every size and offset in
-// host/render/gpu_scene.cpp.
+// GPU data layout shared by the C++ host and the GLSL shaders, declared once
+// (the nvpro-samples host_device.h pattern). This core holds what every
+// pipeline reads: the scene's arrays and their bindings, the per-render
+// FrameParams, the output layers and the limits; each pipeline's own
+// interface is a header of its own that includes this one:
+//   tracer_types.h    the tracer (shaders/whitted.comp): tiles, counters, adaptive buffers
+//   ray_tree_types.h  the ray-tree recorder (shaders/ray_tree.glsl)
+//   ray_cast_types.h  ray casting (shaders/cast_rays.comp)
+//   display_types.h   the window's display pass (shaders/display.comp)
+// Every field has a name; the few that mean something different per shape
+// (Primitive) are read through the named accessors beside it. The structs are
+// laid out so that std430 (std140 for FrameParams) and C++ agree without
+// GL_EXT_scalar_block_layout: each 16 bytes hold a vec4, a vec3 and a 4-byte
+// scalar, two vec2s or four scalars, with explicit pad fields where a slot is
+// unused. The host side static_asserts every size and offset
+// (host/render/gpu_scene.cpp; ray_tree.cpp and ray_cast.cpp for their own).
 #ifndef WHITTED_DEVICE_TYPES_H
 #define WHITTED_DEVICE_TYPES_H
 
+// The headers of this family declare their constants with WHITTED_CONST,
+// zero-initialise their fields with WHITTED_ZERO and define their functions
+// with WHITTED_FUNCTION, so that one text is both C++ and GLSL.
 #ifdef __cplusplus
 #include <cstdint>
 #include <glm/glm.hpp>
@@ -20,13 +31,21 @@ using uvec2 = glm::uvec2;
 using uvec3 = glm::uvec3;
 using uvec4 = glm::uvec4;
 using uint = std::uint32_t;
+using glm::floatBitsToUint;
+}  // namespace whitted::gpu
 #define WHITTED_CONST inline constexpr
 // Every field of a struct starts at zero on the host, so a designated
 // initializer names only the fields it sets.
 #define WHITTED_ZERO = {}
+#define WHITTED_FUNCTION inline
 #else
 #define WHITTED_CONST const
 #define WHITTED_ZERO
+#define WHITTED_FUNCTION
+#endif
+
+#ifdef __cplusplus
+namespace whitted::gpu {
 #endif
 
 WHITTED_CONST uint kWorkgroupSize = 8;  // 8x8 invocations, one pixel each
@@ -34,15 +53,9 @@ WHITTED_CONST uint kWorkgroupSize = 8;  // 8x8 invocations, one pixel each
 // Descriptor bindings of the single descriptor set. The shader reads the
 // scene's arrays through the device addresses in FrameParams
 // (shaders/scene.glsl); the storage-buffer variant reads them through
-// bindings kBindingBvhNodeBuffer..kBindingLightBuffer below.
+// bindings kBindingBvhNodeBuffer..kBindingLightBuffer below. The tracer's
+// own bindings are in tracer_types.h.
 WHITTED_CONST uint kBindingParams = 0;    // uniform FrameParams
-WHITTED_CONST uint kBindingOutput = 4;    // vec4[kAovCount * TileParams.outputSize pixels]
-WHITTED_CONST uint kBindingCounters = 5;  // RayCounters
-// Adaptive anti-aliasing (host/render/adaptive.*): the pixels a refinement
-// pass traces, the first pass's per-pixel guide, per-entry sample statistics.
-WHITTED_CONST uint kBindingPixelList = 7;   // uint[]: x | y << 16
-WHITTED_CONST uint kBindingGuide = 8;       // uvec4[] over TileParams.guideSize: display colour bits, object id
-WHITTED_CONST uint kBindingSampleStats = 9; // uvec4[2 * entries]: min colour bits + object, max colour bits + mixed
 // The scene's top-level acceleration structure, in the ray-query variant of
 // the shader only (shaders/ray_query.glsl).
 WHITTED_CONST uint kBindingTlas = 10;
@@ -158,9 +171,6 @@ WHITTED_CONST uint kBvhMaxNodes = kBvhLeafEntry;
 WHITTED_CONST uint kSpecShapeMask = 0;     // bit (1 << kShape*) set: the BVH holds that shape
 WHITTED_CONST uint kSpecTransparency = 1;  // nonzero: some material has kt > 0
 WHITTED_CONST uint kSpecListShapeMask = 2; // as kSpecShapeMask, for the primitives outside the BVH
-// The auxiliary outputs a render may ask for (FrameParams.options & (kOptionWriteAovs | kOptionWriteIds)), so that
-// a render without them compiles none of their code (shaders/whitted.comp; unset: all of them).
-WHITTED_CONST uint kSpecOutputOptions = 3;
 // The distribution effects a scene uses (kDistribution* bits; unset: all of them), so that a scene without them
 // compiles none of their sampling: a lens (FrameParams.apertureRadius > 0), glossy materials (kMaterialGlossy),
 // area lights (kLightRect, or radius > 0).
@@ -188,15 +198,22 @@ WHITTED_CONST uint kOptionAovBouncesShift = 8u;
 WHITTED_CONST uint kOptionTextureLodZero = 2u;  // sample textures at mip level 0 (tests of the ray-cone LOD)
 WHITTED_CONST uint kOptionWriteIds = 4u;        // write the id layer (object and material masks)
 
-// One geometric primitive. Meaning of a, b, c by shape (each shape's
-// functions in shaders/shapes/ name them):
+// One geometric primitive. Its words a, b, c and extra0/extra1 mean
+// something different for each shape, so they are read and written only
+// through the named accessors below (each shape's functions in
+// shaders/shapes/ take what they return):
 //   sphere:   a = (centre, radius)
 //   cylinder: a = (bottom cap centre, radius), b = (unit axis, height)
 //   plane:    a = (point, 0), b = (unit normal, 0)
-//   triangle: a, b, c = vertices (xyz); w = vertex normals when smooth
+//   triangle: a, b, c = vertices (xyz); w = vertex normals when smooth,
+//             extra0 = kTriangleSmooth then
 //   box:      a = min corner, b = max corner
 //   csg:      a.xyz, b.xyz = bounds; a.w, b.w = uint bits of the first leaf
-//             primitive and the leaf count (host/shapes/csg.cpp)
+//             primitive and the leaf count; extra0, extra1 = its program's
+//             first CsgNode and node count (host/shapes/csg.cpp)
+//   extra1 of every other primitive (csg leaves too, which are what a hit
+//   reports): the index of its object in the scene's object list, the
+//   object_id mask (host/render/gpu_scene.cpp).
 // Primitives in the BVH come first, in leaf order; the unbounded ones
 // (planes) follow and are tested one by one.
 struct Primitive {
@@ -205,12 +222,77 @@ struct Primitive {
     vec4 c WHITTED_ZERO;
     uint shape WHITTED_ZERO;     // kShape* tag
     uint material WHITTED_ZERO;  // index into Material[]
-    uint extra0 WHITTED_ZERO;    // triangle: kTriangleSmooth or 0; csg: its program's first CsgNode
-    // csg: its program's node count; every other primitive (csg leaves
-    // too, which are what a hit reports): the index of its object in the
-    // scene's object list, the object_id mask (host/render/gpu_scene.cpp)
+    uint extra0 WHITTED_ZERO;
     uint extra1 WHITTED_ZERO;
 };
+
+WHITTED_FUNCTION vec3 sphereCenter(Primitive p) { return vec3(p.a); }
+WHITTED_FUNCTION float sphereRadius(Primitive p) { return p.a.w; }
+WHITTED_FUNCTION vec3 cylinderBase(Primitive p) { return vec3(p.a); }  // the bottom cap's centre
+WHITTED_FUNCTION float cylinderRadius(Primitive p) { return p.a.w; }
+WHITTED_FUNCTION vec3 cylinderAxis(Primitive p) { return vec3(p.b); }  // unit length
+WHITTED_FUNCTION float cylinderHeight(Primitive p) { return p.b.w; }
+WHITTED_FUNCTION vec3 planePoint(Primitive p) { return vec3(p.a); }
+WHITTED_FUNCTION vec3 planeUnitNormal(Primitive p) { return vec3(p.b); }
+WHITTED_FUNCTION vec3 triangleV0(Primitive p) { return vec3(p.a); }
+WHITTED_FUNCTION vec3 triangleV1(Primitive p) { return vec3(p.b); }
+WHITTED_FUNCTION vec3 triangleV2(Primitive p) { return vec3(p.c); }
+// Whether a triangle has vertex normals (a smooth mesh triangle), and the
+// three of them, octahedral-encoded.
+WHITTED_FUNCTION bool triangleSmooth(Primitive p) { return p.extra0 == kTriangleSmooth; }
+WHITTED_FUNCTION uvec3 triangleNormals(Primitive p) {
+    return uvec3(floatBitsToUint(p.a.w), floatBitsToUint(p.b.w), floatBitsToUint(p.c.w));
+}
+WHITTED_FUNCTION vec3 boxMin(Primitive p) { return vec3(p.a); }
+WHITTED_FUNCTION vec3 boxMax(Primitive p) { return vec3(p.b); }
+WHITTED_FUNCTION vec3 csgBoundsMin(Primitive p) { return vec3(p.a); }
+WHITTED_FUNCTION vec3 csgBoundsMax(Primitive p) { return vec3(p.b); }
+// A csg object's leaf primitives (first, count) and its program's CsgNodes (first, count).
+WHITTED_FUNCTION uvec2 csgLeaves(Primitive p) { return uvec2(floatBitsToUint(p.a.w), floatBitsToUint(p.b.w)); }
+WHITTED_FUNCTION uvec2 csgProgram(Primitive p) { return uvec2(p.extra0, p.extra1); }
+// A point of every shape: a sphere's centre, a cylinder's base, a plane's
+// point, a triangle's first vertex, a box's or csg object's min corner.
+WHITTED_FUNCTION vec3 primitiveAnchor(Primitive p) { return vec3(p.a); }
+// The object a primitive (not a csg object) belongs to, as the object_id mask numbers it.
+WHITTED_FUNCTION uint primitiveObject(Primitive p) { return p.extra1; }
+
+#ifdef __cplusplus
+// The host packs each shape through these (host/shapes/*.cpp).
+inline Primitive spherePrimitive(vec3 center, float radius, uint material) {
+    return {.a = vec4(center, radius), .shape = kShapeSphere, .material = material};
+}
+inline Primitive cylinderPrimitive(vec3 base, vec3 unitAxis, float radius, float height, uint material) {
+    return {.a = vec4(base, radius), .b = vec4(unitAxis, height), .shape = kShapeCylinder, .material = material};
+}
+inline Primitive planePrimitive(vec3 point, vec3 unitNormal, uint material) {
+    return {.a = vec4(point, 0.0f), .b = vec4(unitNormal, 0.0f), .shape = kShapePlane, .material = material};
+}
+inline Primitive trianglePrimitive(vec3 v0, vec3 v1, vec3 v2, uint material) {
+    return {.a = vec4(v0, 0.0f), .b = vec4(v1, 0.0f), .c = vec4(v2, 0.0f), .shape = kShapeTriangle,
+            .material = material};
+}
+// Makes triangle p smooth with the three octahedral-encoded vertex normals.
+inline void setTriangleNormals(Primitive& p, uvec3 normals) {
+    p.a.w = glm::uintBitsToFloat(normals.x);
+    p.b.w = glm::uintBitsToFloat(normals.y);
+    p.c.w = glm::uintBitsToFloat(normals.z);
+    p.extra0 = kTriangleSmooth;
+}
+inline Primitive boxPrimitive(vec3 min, vec3 max, uint material) {
+    return {.a = vec4(min, 0.0f), .b = vec4(max, 0.0f), .shape = kShapeBox, .material = material};
+}
+inline Primitive csgPrimitive(vec3 boundsMin, vec3 boundsMax, uvec2 leaves, uvec2 program, uint material) {
+    return {.a = vec4(boundsMin, glm::uintBitsToFloat(leaves.x)),
+            .b = vec4(boundsMax, glm::uintBitsToFloat(leaves.y)),
+            .shape = kShapeCsg,
+            .material = material,
+            .extra0 = program.x,
+            .extra1 = program.y};
+}
+// Moves a csg object's first leaf to `first` (the leaves' place in the whole primitive array).
+inline void setCsgFirstLeaf(Primitive& p, uint first) { p.a.w = glm::uintBitsToFloat(first); }
+inline void setPrimitiveObject(Primitive& p, uint object) { p.extra1 = object; }
+#endif
 
 // Material.flags bits.
 WHITTED_CONST uint kMaterialFresnel = 1u;       // kr is F0 of Schlick's approximation
@@ -380,223 +462,19 @@ struct FrameParams {
     uvec2 sampleStatsAddress WHITTED_ZERO;  // uvec4[]: the sample statistics of the list's pixels
 };
 
-// TileParams.flags bits.
-WHITTED_CONST uint kTileList = 1u;       // pixels from the pixel list (listFirst, listCount)
-WHITTED_CONST uint kTileOverwrite = 2u;  // replace the pixels' sums (and statistics) instead of adding
-WHITTED_CONST uint kTileGuide = 4u;      // write the guide (colour, object) of each pixel
-WHITTED_CONST uint kTileStats = 8u;      // write the sample statistics of each list entry
-
-// Entries of the pixel list traced by one work group in list mode.
-WHITTED_CONST uint kListGroupSize = kWorkgroupSize * kWorkgroupSize;
 // Object id of a sample that hit nothing.
 WHITTED_CONST uint kNoObject = 0xffffffffu;
 
-// Per-dispatch constants (push constants): which pixels, which samples of
-// which pattern, and where the output layers and guide sit in the image.
-struct TileParams {
-    uvec2 tileOrigin WHITTED_ZERO;    // rect mode: the first pixel of the tile
-    uvec2 tileSize WHITTED_ZERO;      // rect mode: its width and height
-    uint firstSample WHITTED_ZERO;    // index of the first sample
-    uint sampleCount WHITTED_ZERO;
-    uint patternSize WHITTED_ZERO;    // n of the n x n sample pattern
-    uint flags WHITTED_ZERO;          // kTile* bits
-    uvec2 outputOrigin WHITTED_ZERO;  // the first pixel of the pixels the output layers hold
-    uvec2 outputSize WHITTED_ZERO;    // their width and height
-    uvec2 guideOrigin WHITTED_ZERO;   // likewise for the guide
-    uvec2 guideSize WHITTED_ZERO;
-    uint listFirst WHITTED_ZERO;      // list mode: the first entry of the pixel list and the count
-    uint listCount WHITTED_ZERO;
-    // The ray-tree build (-DWHITTED_RAY_TREE, shaders/ray_tree.glsl) only:
-    // the device address of the RayTreeRecord it fills; unread otherwise.
-    uvec2 rayTreeAddress WHITTED_ZERO;
-};
-
-// Rays traced, counted by the shader (reset before each dispatch).
-struct RayCounters {
-    uint primary WHITTED_ZERO;
-    uint shadow WHITTED_ZERO;
-    uint secondary WHITTED_ZERO;
-    uint pad WHITTED_ZERO;
-};
-
-// ---- The ray-tree inspector (shaders/ray_tree.glsl, host/render/ray_tree.h) ----
-// The build of shaders/whitted.comp with -DWHITTED_RAY_TREE records every
-// ray of one pixel's centre sample into a RayTreeRecord (at
-// TileParams.rayTreeAddress): its rays in the order they are traced, the
-// shadow rays of each and the surfaces each shadow ray crosses. What does not
-// fit is counted in RayTreeRecord.dropped, and so is every ray and shadow ray
-// of a dropped ray's subtree (left out); a record with dropped > 0 is not
-// fully recorded, and says so.
-WHITTED_CONST uint kRayTreeMaxRays = 256;
-WHITTED_CONST uint kRayTreeMaxShadowRays = 1024;
-WHITTED_CONST uint kRayTreeMaxCrossings = 2048;
-
-// RayTreeRay.kind.
-WHITTED_CONST uint kRayCamera = 0;
-WHITTED_CONST uint kRayReflection = 1;
-WHITTED_CONST uint kRayRefraction = 2;
-WHITTED_CONST uint kRayTotalInternal = 3;  // a reflection carrying the transmitted share too
-
-// RayTreeShadowRay.outcome.
-WHITTED_CONST uint kShadowLit = 0;       // nothing in the way
-WHITTED_CONST uint kShadowBlocked = 1;   // an opaque surface (RayTreeShadowRay.blocker)
-WHITTED_CONST uint kShadowFiltered = 2;  // only transparent surfaces, each filtering the light
-
-// One ray. Its contribution to the pixel is weight * (ambient + diffuse +
-// specular) as traceSamples adds it; diffuse and specular are the sums over
-// its shadow rays' per-light terms. A ray that hits nothing has primitive
-// kNoObject and brings nothing back (the background is black).
-struct RayTreeRay {
-    vec3 origin WHITTED_ZERO;
-    uint kind WHITTED_ZERO;           // kRay*
-    vec3 direction WHITTED_ZERO;
-    uint depth WHITTED_ZERO;          // 0: the camera ray
-    vec3 point WHITTED_ZERO;          // the hit point, origin + t * direction
-    float t WHITTED_ZERO;
-    vec3 normal WHITTED_ZERO;         // shading normal at the hit, facing the ray
-    uint primitive WHITTED_ZERO;      // the primitive struck, kNoObject for a miss
-    vec3 weight WHITTED_ZERO;         // the throughput that scales its local terms (after absorption)
-    uint material WHITTED_ZERO;       // the object's material index (objects come first: the object index)
-    vec3 ambient WHITTED_ZERO;
-    uint shape WHITTED_ZERO;          // kShape* of the primitive struck
-    vec3 diffuse WHITTED_ZERO;
-    uint frontFace WHITTED_ZERO;      // 1: the outside of the surface was hit
-    vec3 specular WHITTED_ZERO;
-    uint parent WHITTED_ZERO;         // index of the ray it was spawned by, kNoObject for the camera ray
-    vec3 emission WHITTED_ZERO;       // zero until materials emit (issue 16)
-    uint firstShadowRay WHITTED_ZERO; // its shadow rays: RayTreeRecord.shadowRays[first .. first + count)
-    vec3 contribution WHITTED_ZERO;   // weight * (ambient + diffuse + specular + emission)
-    uint shadowRayCount WHITTED_ZERO;
-};
-
-// One shadow ray from a hit point towards a light, traced by the renderer's
-// own shadow walk (traceQuery, shaders/intersect.glsl), which goes
-// on past an opaque surface in the recorder's build so that every surface in
-// (0, distance) is found. visibility is what the walk returned;
-// transmittance the product of the filters of the crossings it handed to
-// the recorder (crossings[first .. first + count), in order along the ray,
-// and those left out), 0 when one is opaque, which tests compare.
-struct RayTreeShadowRay {
-    vec3 origin WHITTED_ZERO;
-    uint ray WHITTED_ZERO;            // the RayTreeRay it belongs to
-    vec3 direction WHITTED_ZERO;      // unit, towards the light
-    uint light WHITTED_ZERO;          // index into the scene's lights
-    vec3 visibility WHITTED_ZERO;
-    float distance WHITTED_ZERO;      // to the light
-    vec3 diffuse WHITTED_ZERO;        // this light's share of the ray's diffuse term
-    uint outcome WHITTED_ZERO;        // kShadow*
-    vec3 specular WHITTED_ZERO;       // and of its specular term
-    uint blocker WHITTED_ZERO;        // kShadowBlocked: the nearest opaque primitive, else kNoObject
-    vec3 transmittance WHITTED_ZERO;  // the product of the crossings' filters times the absorption
-    float blockerT WHITTED_ZERO;      // kShadowBlocked: its distance along the ray, else distance
-    vec3 absorption WHITTED_ZERO;     // exp(-sigma * length inside), the Beer-Lambert share of transmittance
-    uint firstCrossing WHITTED_ZERO;
-    uint crossingCount WHITTED_ZERO;
-    uint blockerMaterial WHITTED_ZERO;  // the blocker's material (object) index, else kNoObject
-    uint droppedCrossings WHITTED_ZERO; // crossings found but not written (the record's crossings were full);
-                                        // the outcome and transmittance still count them
-    uint pad0 WHITTED_ZERO;
-};
-
-// A surface a shadow ray crosses, and the filter kt * mix(white, Cd, kd) * Ct
-// it applies there (shadowCrossing, shaders/intersect.glsl). An opaque one
-// is recorded too, with filter 0.
-struct RayTreeCrossing {
-    vec3 filterColour WHITTED_ZERO;
-    float t WHITTED_ZERO;
-    uint primitive WHITTED_ZERO;
-    uint material WHITTED_ZERO;
-    uint pad0 WHITTED_ZERO;
-    uint pad1 WHITTED_ZERO;
-};
-
-struct RayTreeRecord {
-    uint rayCount WHITTED_ZERO;
-    uint shadowRayCount WHITTED_ZERO;
-    uint crossingCount WHITTED_ZERO;
-    uint dropped WHITTED_ZERO;        // rays, shadow rays or crossings that did not fit, or whose parent did not
-    RayTreeRay rays[kRayTreeMaxRays];
-    RayTreeShadowRay shadowRays[kRayTreeMaxShadowRays];
-    RayTreeCrossing crossings[kRayTreeMaxCrossings];
-};
-
-// ---- Ray casting (Renderer.cast_rays in Python; host/render/ray_cast.h, shaders/cast_rays.comp) ----
-// One invocation a ray, kCastGroupSize a work group, the rays and their hits
-// in arrays at the device addresses of CastParams (push constants).
-WHITTED_CONST uint kCastGroupSize = 64;
-
-// A ray: its unit direction and the farthest hit distance along it.
-struct CastRay {
-    vec3 origin WHITTED_ZERO;
-    float tMax WHITTED_ZERO;
-    vec3 direction WHITTED_ZERO;  // unit length
-    float pad0 WHITTED_ZERO;
-};
-
-// What a ray hits first: primitive kNoObject for a miss (the rest is then 0).
-struct CastHit {
-    vec3 normal WHITTED_ZERO;  // the unit geometric normal the intersection gives (outward; a triangle's winding)
-    float t WHITTED_ZERO;      // the distance along the unit direction
-    vec2 uv WHITTED_ZERO;      // the texture coordinates surfaceUv gives (shaders/texture.glsl)
-    uint object WHITTED_ZERO;  // Primitive.extra1: the object's index, as the object_id mask has it
-    uint primitive WHITTED_ZERO;  // the index into the Primitive array (the host maps it to its object's numbering)
-};
-
-struct CastParams {
-    uvec2 rayAddress WHITTED_ZERO;  // CastRay[count]
-    uvec2 hitAddress WHITTED_ZERO;  // CastHit[count]
-    uint count WHITTED_ZERO;
-    uint pad0 WHITTED_ZERO;
-    uint pad1 WHITTED_ZERO;
-    uint pad2 WHITTED_ZERO;
-};
-
-// ---- The live window (whitted view, shaders/display.comp) ----
-// Bindings of the display pass: the renderer's output sums in, packed RGBA8 out.
-WHITTED_CONST uint kBindingDisplayInput = 0;   // vec4[] sums, as kBindingOutput
-WHITTED_CONST uint kBindingDisplayOutput = 1;  // uint[width * height], RGBA8
-
-// What the display pass shows (DisplayParams.kind), like output/aov_output.
-WHITTED_CONST uint kDisplayColor = 0;   // a colour layer: mean, clamp, sRGB
-WHITTED_CONST uint kDisplayScalar = 1;  // one channel's mean times scalarScale
-WHITTED_CONST uint kDisplayDepth = 2;   // m / (m + d), m = depthMedian
-WHITTED_CONST uint kDisplayNormal = 3;  // n / 2 + 0.5
-WHITTED_CONST uint kDisplayId = 4;      // the id in channel `channel` of the id layer, as idColorRgb8
-
-// Push constants of the display pass.
-struct DisplayParams {
-    uint kind WHITTED_ZERO;     // kDisplay*
-    uint layer WHITTED_ZERO;    // the output layer shown (kAov*)
-    uint channel WHITTED_ZERO;  // kDisplayScalar: its channel
-    uint pad0 WHITTED_ZERO;
-    uint width WHITTED_ZERO;
-    uint height WHITTED_ZERO;
-    uint pad1 WHITTED_ZERO;
-    uint pad2 WHITTED_ZERO;
-    float scalarScale WHITTED_ZERO;
-    float depthMedian WHITTED_ZERO;
-    float exposure WHITTED_ZERO;  // kDisplayColor: the mean is scaled by 2^exposure before encoding (--exposure)
-    float pad4 WHITTED_ZERO;
-};
-
-// The colour of a mask id in 8-bit files and the window: a fixed hash of the
-// id (pcg, as hashPcg in shaders/sampling.glsl), each channel in 64..255 so
-// that no object is as black as the background (kNoObject). Packed
-// r | g << 8 | b << 16.
-#ifdef __cplusplus
-inline
-#endif
-uint idColorRgb8(uint id) {
-    if (id == kNoObject) return 0u;
-    uint state = id * 747796405u + 2891336453u;
+// Integer hash (Jarzynski and Olano, "Hash Functions for GPU Rendering",
+// JCGT 2020: pcg): a pixel's sample pattern seed (shaders/sampling.glsl) and
+// a mask id's colour (display_types.h, idColorRgb8).
+WHITTED_FUNCTION uint hashPcg(uint v) {
+    uint state = v * 747796405u + 2891336453u;
     uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    word = (word >> 22u) ^ word;
-    return (word & 0xbfbfbfu) + 0x404040u;
+    return (word >> 22u) ^ word;
 }
 
 #ifdef __cplusplus
 }  // namespace whitted::gpu
 #endif
-#undef WHITTED_CONST
-#undef WHITTED_ZERO
 #endif

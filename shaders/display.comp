@@ -7,7 +7,7 @@
 // layers follow output/aov_output.cpp.
 #extension GL_GOOGLE_include_directive : require
 
-#include "device_types.h"
+#include "display_types.h"
 #include "color.glsl"
 
 layout(local_size_x = kWorkgroupSize, local_size_y = kWorkgroupSize, local_size_z = 1) in;

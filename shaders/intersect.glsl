@@ -38,20 +38,26 @@ bool intersectPrimitiveAt(uint i, const uint mask, Ray ray, float tMin, inout fl
     bool single = bitCount(mask) == 1;
     uint tag = single ? findLSB(mask) : primitives[i].shape;
     if ((mask & (1u << kShapeSphere)) != 0u && tag == kShapeSphere) {
-        vec4 a = primitives[i].a;
-        return intersectSphere(a.xyz, a.w, ray, tMin, tHit, normal);
+        Primitive p = primitives[i];
+        return intersectSphere(sphereCenter(p), sphereRadius(p), ray, tMin, tHit, normal);
     }
     if ((mask & (1u << kShapeCylinder)) != 0u && tag == kShapeCylinder) {
-        vec4 a = primitives[i].a, b = primitives[i].b;
-        return intersectCylinder(a.xyz, b.xyz, a.w, b.w, ray, tMin, tHit, normal);
+        Primitive p = primitives[i];
+        return intersectCylinder(cylinderBase(p), cylinderAxis(p), cylinderRadius(p), cylinderHeight(p), ray, tMin,
+                                 tHit, normal);
     }
-    if ((mask & (1u << kShapePlane)) != 0u && tag == kShapePlane)
-        return intersectPlane(primitives[i].a.xyz, primitives[i].b.xyz, ray, tMin, tHit, normal);
-    if ((mask & (1u << kShapeTriangle)) != 0u && tag == kShapeTriangle)
-        return intersectTriangle(primitives[i].a.xyz, primitives[i].b.xyz, primitives[i].c.xyz, ray, tMin, tHit,
-                                 normal);
-    if ((mask & (1u << kShapeBox)) != 0u && tag == kShapeBox)
-        return intersectBox(primitives[i].a.xyz, primitives[i].b.xyz, ray, tMin, tHit, normal);
+    if ((mask & (1u << kShapePlane)) != 0u && tag == kShapePlane) {
+        Primitive p = primitives[i];
+        return intersectPlane(planePoint(p), planeUnitNormal(p), ray, tMin, tHit, normal);
+    }
+    if ((mask & (1u << kShapeTriangle)) != 0u && tag == kShapeTriangle) {
+        Primitive p = primitives[i];
+        return intersectTriangle(triangleV0(p), triangleV1(p), triangleV2(p), ray, tMin, tHit, normal);
+    }
+    if ((mask & (1u << kShapeBox)) != 0u && tag == kShapeBox) {
+        Primitive p = primitives[i];
+        return intersectBox(boxMin(p), boxMax(p), ray, tMin, tHit, normal);
+    }
     return false;
 }
 

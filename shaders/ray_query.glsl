@@ -6,8 +6,10 @@
 // the bounded triangles as native triangles and the other bounded shapes
 // (spheres, cylinders, boxes, csg objects) as AABBs. Both BLASes list every bounded
 // primitive in the order of the Primitive array, those of the other kind
-// inactive (NaN vertices) or empty (a point box for a triangle: NaN boxes
-// made lavapipe miss them all), so a primitive index from the query IS the
+// stand-ins no ray hits (a zero-area triangle at another shape's first
+// point, a point box at a triangle's first vertex: lavapipe misses every
+// primitive of a structure that holds NaN ones, the spec's inactive
+// primitives), so a primitive index from the query IS the
 // index into primitives[]; shading is unchanged. Planes stay outside, one
 // by one.
 //
@@ -67,8 +69,9 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                 }
             } else if (!box) {
                 // The winding's normal, as intersectTriangle gives it.
-                vec3 a = primitives[i].a.xyz;
-                n = cross(primitives[i].b.xyz - a, primitives[i].c.xyz - a);
+                Primitive p = primitives[i];
+                vec3 a = triangleV0(p);
+                n = cross(triangleV1(p) - a, triangleV2(p) - a);
                 blocked = !shadowCrossing(i, ray, rayQueryGetIntersectionTEXT(query, false), n, transmittance,
                                           opticalDepth) || blocked;
             }
@@ -102,7 +105,8 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     hit.t = rayQueryGetIntersectionTEXT(query, true);
     hit.primitive = i;
     if (committed == gl_RayQueryCommittedIntersectionTriangleEXT) {
-        vec3 v0 = primitives[i].a.xyz, v1 = primitives[i].b.xyz, v2 = primitives[i].c.xyz;
+        Primitive p = primitives[i];
+        vec3 v0 = triangleV0(p), v1 = triangleV1(p), v2 = triangleV2(p);
         hit.normal = normalize(cross(v1 - v0, v2 - v0));
     } else {
         hit.normal = boxNormal;

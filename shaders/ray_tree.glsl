@@ -3,13 +3,15 @@
 // functions. The host (host/render/ray_tree.h) dispatches that build over one
 // pixel and one sample (its centre), so every ray the tracer traces there is
 // written into the RayTreeRecord at TileParams.rayTreeAddress
-// (device_types.h). The values recorded are the tracer's own: its weights,
+// (ray_tree_types.h). The values recorded are the tracer's own: its weights,
 // its local terms, and its shadow rays, traced by the renderer's own walk
 // (traceSamples' one scene query, along the BVH or the ray queries) whose every
 // crossing comes here through shadowCrossing's hook (rayTreeCrossing).
 #ifndef WHITTED_RAY_TREE_GLSL
 #define WHITTED_RAY_TREE_GLSL
 #include "intersect.glsl"
+#include "ray_tree_types.h"
+#include "tracer_buffers.glsl"  // tileParams
 
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer RayTreeBuffer { RayTreeRecord record; };
 #define rayTree (RayTreeBuffer(tileParams.rayTreeAddress).record)

@@ -2,13 +2,7 @@
 #ifndef WHITTED_SAMPLING_GLSL
 #define WHITTED_SAMPLING_GLSL
 
-// Integer hash (Wang / Jarzynski & Olano, "Hash Functions for GPU Rendering",
-// JCGT 2020: pcg) to turn a pixel index into a pattern seed.
-uint hashPcg(uint v) {
-    uint state = v * 747796405u + 2891336453u;
-    uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
-}
+#include "device_types.h"  // hashPcg, which turns a pixel index into a pattern seed
 
 // Hash-based permutation of [0, l) and uniform float from "Correlated
 // Multi-Jittered Sampling", Kensler, Pixar Technical Memo 13-01 (2013).

@@ -1,4 +1,4 @@
-// Scene buffers, as laid out in device_types.h.
+// Scene buffers, as laid out in device_types.h (the tracer's own: tracer_buffers.glsl).
 #ifndef WHITTED_SCENE_GLSL
 #define WHITTED_SCENE_GLSL
 #extension GL_EXT_buffer_reference : require
@@ -9,14 +9,6 @@
 #include "device_types.h"
 
 layout(std140, set = 0, binding = kBindingParams) uniform FrameParamsBlock { FrameParams params; };
-layout(std430, set = 0, binding = kBindingOutput) buffer OutputBlock { vec4 outputLayerBuffer[]; };
-layout(std430, set = 0, binding = kBindingCounters) buffer CounterBlock { RayCounters counters; };
-layout(std430, set = 0, binding = kBindingPixelList) readonly buffer PixelListBlock { uint pixelListBuffer[]; };
-layout(std430, set = 0, binding = kBindingGuide) writeonly buffer GuideBlock { uvec4 guideBuffer[]; };
-layout(std430, set = 0, binding = kBindingSampleStats) buffer StatsBlock { uvec4 sampleStatsBuffer[]; };
-#ifndef WHITTED_NO_TILE_PARAMS  // a shader with push constants of its own (shaders/cast_rays.comp)
-layout(push_constant) uniform TileBlock { TileParams tileParams; };
-#endif
 #ifdef WHITTED_RAY_QUERY
 // The scene's top-level acceleration structure (shaders/ray_query.glsl).
 layout(set = 0, binding = kBindingTlas) uniform accelerationStructureEXT sceneTlas;
@@ -26,11 +18,12 @@ layout(set = 0, binding = kBindingTlas) uniform accelerationStructureEXT sceneTl
 // bufferDeviceAddress), not descriptors: a storage buffer descriptor spans
 // at most maxStorageBufferRange (128 MiB on lavapipe, 2^21 primitives), an
 // address a whole VkBuffer. The driver turns an index into a byte address
-// in 64 bits, so no offset overflows past 4 GiB. The macros keep the names
-// of the former storage buffers, and members are still read one by one
-// (primitives[i].a): a load fetches only the words it names
-// (intersect.glsl). On lavapipe these loads are also faster than storage
-// buffer loads, which it bounds-checks lane by lane (tools/benchmark_results/README.md, "Profiling and what each change gained").
+// in 64 bits, so no offset overflows past 4 GiB. The macros name the arrays
+// as the storage-buffer variant's blocks do. A primitive is read through
+// its shape's accessors (device_types.h), and the driver loads only the
+// words those use (intersect.glsl). Lavapipe gathers an address load in one
+// vector instruction, where it bounds-checks a storage buffer load lane by
+// lane (measurements: tools/benchmark_results/notes-shader.md).
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer PrimitiveArray { Primitive v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer MaterialArray { Material v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer LightArray { Light v[]; };
@@ -55,25 +48,6 @@ layout(std430, set = 0, binding = kBindingLightBuffer) readonly buffer LightBloc
 #define lights (LightArray(params.lightAddress).v)
 #endif
 #define bvhNodes (BvhNodeArray(params.bvhNodeAddress).v)
-// The per-pixel buffers likewise (FrameParams.outputAddress ...): lavapipe compiles a storage buffer access
-// into a loop over the lanes, each bounds-checked, and an address into one gather or scatter. Through
-// storage buffers, the writes of the auxiliary layers alone took 0.8 s of the first render's 2.4 s
-// compile (scenes/room.xml); by address, 0.1 s.
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer OutputArray { vec4 v[]; };
-layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer PixelListArray { uint v[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer GuideArray { uvec4 v[]; };
-layout(buffer_reference, std430, buffer_reference_align = 16) buffer SampleStatsArray { uvec4 v[]; };
-#ifdef WHITTED_SCENE_STORAGE_BUFFERS
-#define outputLayers outputLayerBuffer
-#define pixelList pixelListBuffer
-#define guide guideBuffer
-#define sampleStats sampleStatsBuffer
-#else
-#define outputLayers (OutputArray(params.outputAddress).v)
-#define pixelList (PixelListArray(params.pixelListAddress).v)
-#define guide (GuideArray(params.guideAddress).v)
-#define sampleStats (SampleStatsArray(params.sampleStatsAddress).v)
-#endif
 // The csg objects' programs (shaders/shapes/csg.glsl).
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer CsgNodeArray { CsgNode v[]; };
 #define csgNodes (CsgNodeArray(params.csgNodeAddress).v)

@@ -36,18 +36,19 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Su
 // (planes only).
 SurfaceUv surfaceUv(Primitive prim, uint index, vec3 n, vec3 p, float textureScale) {
     switch (prim.shape) {
-        case kShapeSphere: return sphereUv(prim.a.xyz, prim.a.w, p);
-        case kShapeCylinder: return cylinderUv(prim.a.xyz, prim.b.xyz, prim.a.w, prim.b.w, n, p);
-        case kShapePlane: return planeUv(prim.a.xyz, prim.b.xyz, textureScale, p);
-        case kShapeBox: return boxUv(prim.a.xyz, prim.b.xyz, n, p);
+        case kShapeSphere: return sphereUv(sphereCenter(prim), sphereRadius(prim), p);
+        case kShapeCylinder:
+            return cylinderUv(cylinderBase(prim), cylinderAxis(prim), cylinderRadius(prim), cylinderHeight(prim), n, p);
+        case kShapePlane: return planeUv(planePoint(prim), planeUnitNormal(prim), textureScale, p);
+        case kShapeBox: return boxUv(boxMin(prim), boxMax(prim), n, p);
     }
     // A triangle of a textured mesh (the loader refuses textures on others).
-    if (all(equal(params.attributeAddress, uvec2(0u))))
-        return triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, vec2(0.0), vec2(0.0), vec2(0.0), p);
+    vec3 v0 = triangleV0(prim), v1 = triangleV1(prim), v2 = triangleV2(prim);
+    if (all(equal(params.attributeAddress, uvec2(0u)))) return triangleUv(v0, v1, v2, vec2(0.0), vec2(0.0), vec2(0.0), p);
     SurfaceAttributes at = surfaceAttributes[index];
-    SurfaceUv s = triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, at.uv0, at.uv1, at.uv2, p);
+    SurfaceUv s = triangleUv(v0, v1, v2, at.uv0, at.uv1, at.uv2, p);
     // A model file's vertex tangents, interpolated as vertex normals are.
-    if (at.hasTangents != 0u) s.tangent = shadingNormalTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, at.tangents, p);
+    if (at.hasTangents != 0u) s.tangent = shadingNormalTriangle(v0, v1, v2, at.tangents, p);
     return s;
 }
 
@@ -108,12 +109,11 @@ vec3 normalMapped(uint slot, float strength, SurfaceUv s, vec3 ns, float lod) {
 // shapes (planes, boxes, flat triangles).
 float surfaceCurvature(Primitive prim, vec3 n, vec3 p) {
     switch (prim.shape) {
-        case kShapeSphere: return sphereCurvature(prim.a.xyz, prim.a.w, n, p);
-        case kShapeCylinder: return cylinderCurvature(prim.a.xyz, prim.b.xyz, prim.a.w, n, p);
+        case kShapeSphere: return sphereCurvature(sphereCenter(prim), sphereRadius(prim), n, p);
+        case kShapeCylinder: return cylinderCurvature(cylinderBase(prim), cylinderAxis(prim), cylinderRadius(prim), n, p);
         case kShapeTriangle: {
-            if (!kHasSmoothTriangles || prim.extra0 != kTriangleSmooth) return 0.0;
-            uvec3 packedNormals = uvec3(floatBitsToUint(prim.a.w), floatBitsToUint(prim.b.w), floatBitsToUint(prim.c.w));
-            return triangleCurvature(prim.a.xyz, prim.b.xyz, prim.c.xyz, packedNormals, n);
+            if (!kHasSmoothTriangles || !triangleSmooth(prim)) return 0.0;
+            return triangleCurvature(triangleV0(prim), triangleV1(prim), triangleV2(prim), triangleNormals(prim), n);
         }
     }
     return 0.0;

@@ -4,6 +4,7 @@
 // UINT channels, and named by the render record's legend.
 #include "test_support.h"
 
+#include "display_types.h"
 #include "io/image_io.h"
 #include "output/aov_output.h"
 #include "output/render_record.h"

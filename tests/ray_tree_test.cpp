@@ -468,8 +468,8 @@ TEST(RayTree, ShadowRayThroughALargeMeshRecordsExactlyTheCrossingsBruteForceFind
             const Triangle& want = tris[expected[i].second];
             ASSERT_LT(c.primitive, packed.primitives.size());
             const gpu::Primitive& got = packed.primitives[c.primitive];
-            EXPECT_TRUE(glm::vec3(got.a) == glm::vec3(want.v0) && glm::vec3(got.b) == glm::vec3(want.v1) &&
-                        glm::vec3(got.c) == glm::vec3(want.v2))
+            EXPECT_TRUE(gpu::triangleV0(got) == glm::vec3(want.v0) && gpu::triangleV1(got) == glm::vec3(want.v1) &&
+                        gpu::triangleV2(got) == glm::vec3(want.v2))
                 << "crossing " << i << ": primitive " << c.primitive << " is not triangle " << expected[i].second;
             EXPECT_NEAR(c.t, expected[i].first, 1e-5 * expected[i].first) << "crossing " << i;
             EXPECT_EQ(c.material, 1u);

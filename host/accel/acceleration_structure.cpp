@@ -20,27 +20,30 @@ constexpr vk::BufferUsageFlags kBuildInput = vk::BufferUsageFlagBits::eShaderDev
 // shader intersects the float-rounded shape.
 Aabb boundsOf(const gpu::Primitive& p) {
     Aabb b;
-    glm::vec3 a(p.a), axis(p.b);
     switch (p.shape) {
         case gpu::kShapeSphere:
-            b.extend(a - glm::vec3(p.a.w));
-            b.extend(a + glm::vec3(p.a.w));
+            b.extend(gpu::sphereCenter(p) - glm::vec3(gpu::sphereRadius(p)));
+            b.extend(gpu::sphereCenter(p) + glm::vec3(gpu::sphereRadius(p)));
             break;
         case gpu::kShapeCylinder: {
             // Each cap disc of radius r perpendicular to unit axis u extends
             // r * sqrt(1 - u_i^2) along world axis i.
-            glm::vec3 extent = p.a.w * glm::sqrt(glm::max(glm::vec3(0.0f), 1.0f - axis * axis));
-            glm::vec3 top = a + axis * p.b.w;
-            b.extend(a - extent);
-            b.extend(a + extent);
+            glm::vec3 base = gpu::cylinderBase(p), axis = gpu::cylinderAxis(p);
+            glm::vec3 extent = gpu::cylinderRadius(p) * glm::sqrt(glm::max(glm::vec3(0.0f), 1.0f - axis * axis));
+            glm::vec3 top = base + axis * gpu::cylinderHeight(p);
+            b.extend(base - extent);
+            b.extend(base + extent);
             b.extend(top - extent);
             b.extend(top + extent);
             break;
         }
         case gpu::kShapeBox:
+            b.extend(gpu::boxMin(p));
+            b.extend(gpu::boxMax(p));
+            break;
         case gpu::kShapeCsg:  // its bounds (host/shapes/csg.cpp)
-            b.extend(a);
-            b.extend(glm::vec3(p.b));
+            b.extend(gpu::csgBoundsMin(p));
+            b.extend(gpu::csgBoundsMax(p));
             break;
         default:
             throw std::logic_error("acceleration structure: no bounds for shape " + std::to_string(p.shape));
@@ -105,9 +108,9 @@ Buffer triangleInputs(VulkanContext& ctx, std::span<const gpu::Primitive> bounde
     std::vector<glm::vec3> v(size_t(count) * 3);
     for (uint32_t i = 0; i < count; ++i) {
         bool triangle = bounded[i].shape == gpu::kShapeTriangle;
-        v[3 * i] = glm::vec3(bounded[i].a);
-        v[3 * i + 1] = triangle ? glm::vec3(bounded[i].b) : v[3 * i];
-        v[3 * i + 2] = triangle ? glm::vec3(bounded[i].c) : v[3 * i];
+        v[3 * i] = gpu::primitiveAnchor(bounded[i]);
+        v[3 * i + 1] = triangle ? gpu::triangleV1(bounded[i]) : v[3 * i];
+        v[3 * i + 2] = triangle ? gpu::triangleV2(bounded[i]) : v[3 * i];
     }
     return createDeviceBuffer(ctx, v.data(), v.size() * sizeof(glm::vec3), kBuildInput);
 }
@@ -121,7 +124,7 @@ Buffer boxInputs(VulkanContext& ctx, std::span<const gpu::Primitive> bounded) {
     std::vector<vk::AabbPositionsKHR> a(count);
     for (uint32_t i = 0; i < count; ++i) {
         if (bounded[i].shape == gpu::kShapeTriangle) {
-            glm::vec3 v(bounded[i].a);
+            glm::vec3 v = gpu::triangleV0(bounded[i]);
             a[i] = vk::AabbPositionsKHR{v.x, v.y, v.z, v.x, v.y, v.z};
             continue;
         }

@@ -5,6 +5,7 @@
 #include "app/interrupt.h"
 #include "app/progress_bar.h"
 #include "device_types.h"
+#include "tracer_types.h"
 #include "scene/quick_look.h"
 #include "io/image_io.h"
 #include "io/image_library.h"

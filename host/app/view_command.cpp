@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "scene/quick_look.h"
 #include "device_types.h"
+#include "tracer_types.h"
 #include "scene/scene_loader.h"
 #include "view/view_app.h"
 

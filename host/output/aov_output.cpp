@@ -1,5 +1,6 @@
 #include "output/aov_output.h"
 
+#include "display_types.h"  // idColorRgb8
 #include "io/image_io.h"
 
 #include <algorithm>

@@ -3,6 +3,7 @@
 #include "output/ray_tree_json.h"
 
 #include "device_types.h"
+#include "ray_tree_types.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,7 +1,5 @@
 #include "render/adaptive.h"
 
-#include "device_types.h"
-
 #include <algorithm>
 #include <bit>
 #include <unordered_set>

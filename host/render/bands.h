@@ -3,7 +3,7 @@
 // anti-aliasing, its sums read back as means and handed to a BandSink.
 #pragma once
 
-#include "device_types.h"
+#include "tracer_types.h"
 #include "render/band_sink.h"
 #include "render/render_result.h"
 #include "render/render_settings.h"

@@ -133,7 +133,7 @@ Specialization specializationFor(const GpuScene& scene) {
     for (size_t i = 0; i < scene.primitives.size(); ++i) {
         const gpu::Primitive& p = scene.primitives[i];
         if (i < listEnd) constants[i < scene.params.firstListPrimitive ? 0 : 2] |= 1u << p.shape;
-        if (p.shape == gpu::kShapeTriangle && p.extra0 == gpu::kTriangleSmooth)
+        if (p.shape == gpu::kShapeTriangle && gpu::triangleSmooth(p))
             constants[5] |= gpu::kFeatureSmoothTriangles;
     }
     return withShading(constants, scene);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "device_types.h"
+#include "tracer_types.h"
 #include "render/gpu_scene.h"
 #include "render/render_settings.h"
 #include "vk/compute_pipeline.h"

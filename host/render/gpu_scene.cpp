@@ -1,6 +1,8 @@
 #include "render/gpu_scene.h"
 
+#include "display_types.h"  // DisplayParams, laid out here with the others
 #include "shapes/shapes.h"
+#include "tracer_types.h"
 
 #include <algorithm>
 #include <bit>
@@ -14,7 +16,8 @@ namespace whitted {
 
 // The GLSL side reads these with std430 (storage, push constants) and
 // std140 (uniform) rules; every size and offset below is the one those
-// rules give the GLSL declaration (shaders/device_types.h).
+// rules give the GLSL declaration (shaders/device_types.h, tracer_types.h,
+// display_types.h).
 static_assert(sizeof(gpu::Primitive) == 64 && offsetof(gpu::Primitive, a) == 0 &&
               offsetof(gpu::Primitive, b) == 16 && offsetof(gpu::Primitive, c) == 32 &&
               offsetof(gpu::Primitive, shape) == 48 && offsetof(gpu::Primitive, material) == 52 &&
@@ -364,7 +367,7 @@ void appendPart(const BvhPartCache::Entry& part, uint32_t objectIndex, bool attr
     out.primitives.insert(out.primitives.end(), part.primitives.begin(), part.primitives.end());
     for (size_t k = first; k < out.primitives.size(); ++k) {
         out.primitives[k].material = objectIndex;
-        out.primitives[k].extra1 = objectIndex;
+        gpu::setPrimitiveObject(out.primitives[k], objectIndex);
     }
     out.partRanges.push_back({uint32_t(first), uint32_t(part.primitives.size()), &part});
     g.primitiveInObject.insert(g.primitiveInObject.end(), part.meshOrder.begin(), part.meshOrder.end());
@@ -402,7 +405,7 @@ GatheredPrimitives gatherPrimitives(const Scene& scene, const RenderSettings& se
             out.primitives.push_back(packCsg(*c, material, out.csg));
             out.bounds.push_back(boundsCsg(*c));
             for (size_t k = firstLeaf; k < out.csg.leaves.size(); ++k) {
-                out.csg.leaves[k].extra1 = objectIndex;
+                gpu::setPrimitiveObject(out.csg.leaves[k], objectIndex);
                 out.leafInObject.push_back(uint32_t(k - firstLeaf));
             }
         } else if (const BvhPartCache::Entry* part =
@@ -413,7 +416,7 @@ GatheredPrimitives gatherPrimitives(const Scene& scene, const RenderSettings& se
             continue;
         } else {
             appendPrimitives(object.shape, material, out.primitives, out.bounds);
-            for (size_t k = first; k < out.primitives.size(); ++k) out.primitives[k].extra1 = objectIndex;
+            for (size_t k = first; k < out.primitives.size(); ++k) gpu::setPrimitiveObject(out.primitives[k], objectIndex);
         }
         for (size_t k = first; k < out.primitives.size(); ++k) g.primitiveInObject.push_back(uint32_t(k - first));
         if (!attributes) continue;
@@ -524,7 +527,7 @@ void placePrimitives(GatheredPrimitives& gathered, std::vector<uint32_t> source,
     // Each csg primitive's a.w becomes the index of its first leaf there.
     uint32_t leafBase = uint32_t(g.primitives.size());
     for (gpu::Primitive& p : g.primitives)
-        if (p.shape == gpu::kShapeCsg) p.a.w = glm::uintBitsToFloat(leafBase + glm::floatBitsToUint(p.a.w));
+        if (p.shape == gpu::kShapeCsg) gpu::setCsgFirstLeaf(p, leafBase + gpu::csgLeaves(p).x);
     g.primitives.insert(g.primitives.end(), gathered.csg.leaves.begin(), gathered.csg.leaves.end());
     g.primitiveInObject.insert(g.primitiveInObject.end(), gathered.leafInObject.begin(), gathered.leafInObject.end());
     g.csgNodes = std::move(gathered.csg.nodes);

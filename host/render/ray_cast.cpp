@@ -1,5 +1,6 @@
 #include "render/ray_cast.h"
 
+#include "ray_cast_types.h"
 #include "render/device_policy.h"
 
 #include "cast_rays_comp.h"            // kCastRaysCompSpv, generated from shaders/cast_rays.comp

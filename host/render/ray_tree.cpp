@@ -2,6 +2,7 @@
 
 #include "render/bands.h"
 #include "render/device_policy.h"
+#include "tracer_types.h"
 
 #include "whitted_comp_ray_tree.h"            // kWhittedCompRayTreeSpv: shaders/whitted.comp with -DWHITTED_RAY_TREE
 #include "whitted_comp_ray_tree_ray_query.h"  // kWhittedCompRayTreeRayQuerySpv: the same with -DWHITTED_RAY_QUERY
@@ -16,7 +17,7 @@
 
 namespace whitted {
 
-// The recorder's structs as the shader lays them out (std430; device_types.h).
+// The recorder's structs as the shader lays them out (std430; ray_tree_types.h).
 static_assert(sizeof(gpu::RayTreeRay) == 160 && offsetof(gpu::RayTreeRay, origin) == 0 &&
               offsetof(gpu::RayTreeRay, kind) == 12 && offsetof(gpu::RayTreeRay, direction) == 16 &&
               offsetof(gpu::RayTreeRay, depth) == 28 && offsetof(gpu::RayTreeRay, point) == 32 &&

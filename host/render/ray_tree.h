@@ -6,7 +6,7 @@
 // uniform one-sample render gives it (the pixel's centre sample).
 #pragma once
 
-#include "device_types.h"
+#include "ray_tree_types.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "vk/buffer.h"
@@ -31,7 +31,7 @@ struct RayTree {
     std::vector<gpu::RayTreeRay> rays;  // in the order traced; rays[0] the camera ray
     std::vector<gpu::RayTreeShadowRay> shadowRays;
     std::vector<gpu::RayTreeCrossing> crossings;  // each shadow ray's in order along it (by t)
-    uint32_t dropped = 0;  // rays, shadow rays or crossings beyond the record's capacity (device_types.h)
+    uint32_t dropped = 0;  // rays, shadow rays or crossings beyond the record's capacity (ray_tree_types.h)
 
     // The sum of the rays' contributions: the pixel's colour.
     glm::vec3 color() const;

@@ -6,6 +6,7 @@
 
 #include "accel/acceleration_structure.h"
 #include "device_types.h"
+#include "tracer_types.h"
 #include "render/adaptive.h"
 #include "render/band_sink.h"
 #include "render/bands.h"

@@ -4,13 +4,7 @@
 namespace whitted {
 
 gpu::Primitive packBox(const Box& b, uint32_t material) {
-    return {.a = glm::vec4(glm::vec3(b.min), 0.0f),
-            .b = glm::vec4(glm::vec3(b.max), 0.0f),
-            .c = glm::vec4(0),
-            .shape = gpu::kShapeBox,
-            .material = material,
-            .extra0 = 0,
-            .extra1 = 0};
+    return gpu::boxPrimitive(glm::vec3(b.min), glm::vec3(b.max), material);
 }
 
 Aabb boundsBox(const Box& box) {

@@ -102,13 +102,8 @@ gpu::Primitive packCsg(const Csg& csg, uint32_t material, CsgArrays& arrays) {
     glm::vec3 pad = 1e-6f * (glm::abs(b.min) + glm::abs(b.max)) + 1e-30f;
     b.min -= pad;
     b.max += pad;
-    return {.a = glm::vec4(b.min, glm::uintBitsToFloat(firstLeaf)),
-            .b = glm::vec4(b.max, glm::uintBitsToFloat(leafCount)),
-            .c = glm::vec4(0),
-            .shape = gpu::kShapeCsg,
-            .material = material,
-            .extra0 = firstNode,
-            .extra1 = uint32_t(arrays.nodes.size()) - firstNode};
+    return gpu::csgPrimitive(b.min, b.max, glm::uvec2(firstLeaf, leafCount),
+                             glm::uvec2(firstNode, uint32_t(arrays.nodes.size()) - firstNode), material);
 }
 
 }  // namespace whitted

@@ -5,13 +5,8 @@
 namespace whitted {
 
 gpu::Primitive packCylinder(const Cylinder& c, uint32_t material) {
-    return {.a = glm::vec4(glm::vec3(c.base), float(c.radius)),
-            .b = glm::vec4(glm::vec3(glm::normalize(c.axis)), float(c.height)),
-            .c = glm::vec4(0),
-            .shape = gpu::kShapeCylinder,
-            .material = material,
-            .extra0 = 0,
-            .extra1 = 0};
+    return gpu::cylinderPrimitive(glm::vec3(c.base), glm::vec3(glm::normalize(c.axis)), float(c.radius),
+                                  float(c.height), material);
 }
 
 // The two cap discs bound the cylinder; a disc of radius r perpendicular to

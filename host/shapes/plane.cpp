@@ -4,13 +4,7 @@
 namespace whitted {
 
 gpu::Primitive packPlane(const Plane& p, uint32_t material) {
-    return {.a = glm::vec4(glm::vec3(p.point), 0.0f),
-            .b = glm::vec4(glm::vec3(glm::normalize(p.normal)), 0.0f),
-            .c = glm::vec4(0),
-            .shape = gpu::kShapePlane,
-            .material = material,
-            .extra0 = 0,
-            .extra1 = 0};
+    return gpu::planePrimitive(glm::vec3(p.point), glm::vec3(glm::normalize(p.normal)), material);
 }
 
 Aabb boundsPlane(const Plane&) { return Aabb::unbounded(); }

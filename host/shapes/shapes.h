@@ -40,9 +40,10 @@ struct CsgArrays {
     std::vector<Material> materials;
     uint32_t firstMaterial = 0;
 };
-// The csg object's primitive: its bounds, a.w = its first leaf's index in
-// arrays.leaves (the caller adds where the leaves start in the primitive
-// array), b.w its leaf count, extra0 and extra1 its program's range in arrays.nodes.
+// The csg object's primitive: its bounds, its leaves (gpu::csgLeaves: the
+// first one's index in arrays.leaves, to which the caller adds where the
+// leaves start in the primitive array, and their count) and its program's
+// range in arrays.nodes (gpu::csgProgram).
 gpu::Primitive packCsg(const Csg& csg, uint32_t material, CsgArrays& arrays);
 Aabb boundsCsg(const Csg& csg);
 size_t csgOwnMaterialCount(const Csg& csg);  // children with a material of their own

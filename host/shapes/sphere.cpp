@@ -4,13 +4,7 @@
 namespace whitted {
 
 gpu::Primitive packSphere(const Sphere& s, uint32_t material) {
-    return {.a = glm::vec4(glm::vec3(s.center), float(s.radius)),
-            .b = glm::vec4(0),
-            .c = glm::vec4(0),
-            .shape = gpu::kShapeSphere,
-            .material = material,
-            .extra0 = 0,
-            .extra1 = 0};
+    return gpu::spherePrimitive(glm::vec3(s.center), float(s.radius), material);
 }
 
 Aabb boundsSphere(const Sphere& s) {

@@ -3,19 +3,12 @@
 // triangle's vertex normals are decoded by shadingNormalTriangle() there.
 #include "shapes/shapes.h"
 
-#include <bit>
 #include <cmath>
 
 namespace whitted {
 
 gpu::Primitive packTriangle(const Triangle& t, uint32_t material) {
-    return {.a = glm::vec4(glm::vec3(t.v0), 0.0f),
-            .b = glm::vec4(glm::vec3(t.v1), 0.0f),
-            .c = glm::vec4(glm::vec3(t.v2), 0.0f),
-            .shape = gpu::kShapeTriangle,
-            .material = material,
-            .extra0 = 0,
-            .extra1 = 0};
+    return gpu::trianglePrimitive(glm::vec3(t.v0), glm::vec3(t.v1), glm::vec3(t.v2), material);
 }
 
 // Octahedral encoding of a unit vector ("A Survey of Efficient
@@ -37,15 +30,13 @@ uint32_t encodeOctahedral(const glm::dvec3& n) {
     return quantize(e.x) | (quantize(e.y) << gpu::kOctahedralBits);
 }
 
-// The vertex normals ride in the w components of the three vertices and
-// extra0 marks the triangle smooth; the primitive stays 64 bytes and the
-// normals move with it when the BVH reorders primitives.
+// The vertex normals ride in the primitive beside the vertices
+// (gpu::setTriangleNormals); the primitive stays 64 bytes and the normals
+// move with it when the BVH reorders primitives.
 gpu::Primitive packSmoothTriangle(const Triangle& t, const std::array<glm::dvec3, 3>& normals, uint32_t material) {
     gpu::Primitive p = packTriangle(t, material);
-    p.a.w = std::bit_cast<float>(encodeOctahedral(normals[0]));
-    p.b.w = std::bit_cast<float>(encodeOctahedral(normals[1]));
-    p.c.w = std::bit_cast<float>(encodeOctahedral(normals[2]));
-    p.extra0 = gpu::kTriangleSmooth;
+    gpu::setTriangleNormals(p, glm::uvec3(encodeOctahedral(normals[0]), encodeOctahedral(normals[1]),
+                                          encodeOctahedral(normals[2])));
     return p;
 }
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "device_types.h"
+#include "display_types.h"
 
 namespace whitted {
 

@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "device_types.h"
+#include "display_types.h"
 #include "vk/buffer.h"
 #include "vk/compute_pipeline.h"
 #include "vk/context.h"

@@ -8,11 +8,12 @@
 // Leaf primitive i of a csg object (a sphere, cylinder or box): the first
 // crossing of its surface after tMin, by the shape's own function.
 bool intersectCsgLeaf(uint i, Ray ray, float tMin, inout float tHit, out vec3 normal) {
-    uint tag = primitives[i].shape;
-    vec4 a = primitives[i].a, b = primitives[i].b;
-    if (tag == kShapeSphere) return intersectSphere(a.xyz, a.w, ray, tMin, tHit, normal);
-    if (tag == kShapeCylinder) return intersectCylinder(a.xyz, b.xyz, a.w, b.w, ray, tMin, tHit, normal);
-    return intersectBox(a.xyz, b.xyz, ray, tMin, tHit, normal);
+    Primitive p = primitives[i];
+    if (p.shape == kShapeSphere) return intersectSphere(sphereCenter(p), sphereRadius(p), ray, tMin, tHit, normal);
+    if (p.shape == kShapeCylinder)
+        return intersectCylinder(cylinderBase(p), cylinderAxis(p), cylinderRadius(p), cylinderHeight(p), ray, tMin,
+                                 tHit, normal);
+    return intersectBox(boxMin(p), boxMax(p), ray, tMin, tHit, normal);
 }
 
 // Whether a point inside exactly the leaves of the bit set `inside` is in
@@ -59,18 +60,18 @@ bool csgContains(uint firstNode, uint nodeCount, uint inside) {
 bool intersectCsg(uint i, Ray ray, float tMin, inout float tHit, out vec3 normal, out uint leaf) {
     normal = vec3(0.0);
     leaf = i;
-    vec4 a = primitives[i].a, b = primitives[i].b;
-    uvec2 program = uvec2(primitives[i].extra0, primitives[i].extra1);
+    Primitive object = primitives[i];
+    uvec2 program = csgProgram(object);
     // The object's bounds first: most rays that reach here miss it.
     vec3 d = mix(ray.dir, vec3(1e-30), lessThan(abs(ray.dir), vec3(1e-30)));
-    vec3 t0 = (a.xyz - ray.origin) / d, t1 = (b.xyz - ray.origin) / d;
+    vec3 t0 = (csgBoundsMin(object) - ray.origin) / d, t1 = (csgBoundsMax(object) - ray.origin) / d;
     vec3 tNear = min(t0, t1), tFar = max(t0, t1);
     if (max(max(tNear.x, tNear.y), tNear.z) > min(min(tFar.x, tFar.y), min(tFar.z, tHit)) ||
         min(min(tFar.x, tFar.y), tFar.z) <= tMin)
         return false;
 
     const float kFar = 3.0e38;
-    uint firstLeaf = floatBitsToUint(a.w), leafCount = floatBitsToUint(b.w);
+    uint firstLeaf = csgLeaves(object).x, leafCount = csgLeaves(object).y;
     Ray back = Ray(ray.origin, -ray.dir);
     float tIn[kCsgMaxLeaves], tOut[kCsgMaxLeaves];
     uint inside = 0u;  // the leaves the ray is inside just after tMin

@@ -15,11 +15,14 @@
 // shape functions.
 bool intersectPrimitive(Primitive prim, Ray ray, float tMin, inout float tHit, out vec3 normal) {
     switch (prim.shape) {
-        case kShapeSphere: return intersectSphere(prim.a.xyz, prim.a.w, ray, tMin, tHit, normal);
-        case kShapeCylinder: return intersectCylinder(prim.a.xyz, prim.b.xyz, prim.a.w, prim.b.w, ray, tMin, tHit, normal);
-        case kShapePlane: return intersectPlane(prim.a.xyz, prim.b.xyz, ray, tMin, tHit, normal);
-        case kShapeTriangle: return intersectTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, ray, tMin, tHit, normal);
-        case kShapeBox: return intersectBox(prim.a.xyz, prim.b.xyz, ray, tMin, tHit, normal);
+        case kShapeSphere: return intersectSphere(sphereCenter(prim), sphereRadius(prim), ray, tMin, tHit, normal);
+        case kShapeCylinder:
+            return intersectCylinder(cylinderBase(prim), cylinderAxis(prim), cylinderRadius(prim), cylinderHeight(prim),
+                                     ray, tMin, tHit, normal);
+        case kShapePlane: return intersectPlane(planePoint(prim), planeUnitNormal(prim), ray, tMin, tHit, normal);
+        case kShapeTriangle:
+            return intersectTriangle(triangleV0(prim), triangleV1(prim), triangleV2(prim), ray, tMin, tHit, normal);
+        case kShapeBox: return intersectBox(boxMin(prim), boxMax(prim), ray, tMin, tHit, normal);
     }
     normal = vec3(0.0);
     return false;
@@ -33,10 +36,9 @@ bool intersectPrimitive(Primitive prim, Ray ray, float tMin, inout float tHit, o
 // coarse mesh), bent towards viewDir until their cosine is kMinCosine, so
 // shading never looks at a surface from behind.
 vec3 shadingNormal(Primitive prim, vec3 p, vec3 n, vec3 viewDir) {
-    if (prim.shape != kShapeTriangle || prim.extra0 != kTriangleSmooth) return n;
+    if (prim.shape != kShapeTriangle || !triangleSmooth(prim)) return n;
     const float kMinCosine = 1e-3;
-    uvec3 packedNormals = uvec3(floatBitsToUint(prim.a.w), floatBitsToUint(prim.b.w), floatBitsToUint(prim.c.w));
-    vec3 s = shadingNormalTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, packedNormals, p);
+    vec3 s = shadingNormalTriangle(triangleV0(prim), triangleV1(prim), triangleV2(prim), triangleNormals(prim), p);
     if (dot(s, n) < 0.0) s = -s;
     float facing = dot(s, viewDir);
     if (facing < kMinCosine) s = normalize(s + (kMinCosine - facing) * viewDir);
