@@ -30,6 +30,12 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Su
 };
 #define surfaceAttributes (SurfaceAttributesArray(params.attributeAddress).v)
 
+// Primitive i's attributes, member by member (why: shaders/scene.glsl, loadMaterial).
+SurfaceAttributes surfaceAttributesAt(uint i) {
+    return SurfaceAttributes(surfaceAttributes[i].uv0, surfaceAttributes[i].uv1, surfaceAttributes[i].uv2,
+                             vec2(0.0), surfaceAttributes[i].tangents, surfaceAttributes[i].hasTangents);
+}
+
 // Texture coordinates of primitive `index` at its point p; n is the shape's
 // geometric normal there (as the intersection gave it), which tells a
 // box's faces and a cylinder's caps apart. textureScale: the material's
@@ -44,7 +50,7 @@ SurfaceUv surfaceUv(Primitive prim, uint index, vec3 n, vec3 p, float textureSca
     // A triangle of a textured mesh (the loader refuses textures on others).
     if (all(equal(params.attributeAddress, uvec2(0u))))
         return triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, vec2(0.0), vec2(0.0), vec2(0.0), p);
-    SurfaceAttributes at = surfaceAttributes[index];
+    SurfaceAttributes at = surfaceAttributesAt(index);
     SurfaceUv s = triangleUv(prim.a.xyz, prim.b.xyz, prim.c.xyz, at.uv0, at.uv1, at.uv2, p);
     // A model file's vertex tangents, interpolated as vertex normals are.
     if (at.hasTangents != 0u) s.tangent = shadingNormalTriangle(prim.a.xyz, prim.b.xyz, prim.c.xyz, at.tangents, p);

@@ -217,7 +217,7 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
                     ids = uvec2(prim.extra1, prim.material);
                     break;
                 }
-                m = materials[prim.material];
+                m = loadMaterial(prim.material);
                 hitMaterial = prim.material;
 
                 // Which side was hit is decided by the geometric normal; shading
