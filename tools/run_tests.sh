@@ -8,7 +8,9 @@ cd "$(dirname "$0")/.."
 tools/install_deps.sh --all
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DWHITTED_WARNINGS_AS_ERRORS=ON -DWHITTED_BUILD_TESTS=ON
 cmake --build build
-ctest --test-dir build --output-on-failure
+# The GPU-readiness tier (ctest -L gpu_readiness) takes far longer than the rest on lavapipe:
+# run it by itself (tests/README.md "GPU readiness").
+ctest --test-dir build --output-on-failure -LE gpu_readiness
 # The Python module (tests/python/): the same pixels as the CLI, uploads,
 # errors, threads, Ctrl+C, memory, and `pip install .` into a fresh venv.
 PYTHONPATH=build/python WHITTED_VALIDATION=1 /usr/bin/python3 -m pytest tests/python -q
