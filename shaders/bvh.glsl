@@ -138,7 +138,12 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             uint entry = kNoEntry;
             if (children != kNoEntry) {
                 const float kMiss = 3.4e38;  // beyond any tLimit: sorts last
-                BvhNode n = bvhWalkNodes[children];
+                // Member by member (why: shaders/scene.glsl, loadMaterial).
+                BvhNode n = BvhNode(bvhWalkNodes[children].origin, bvhWalkNodes[children].exponents,
+                                    bvhWalkNodes[children].childBase, bvhWalkNodes[children].primitiveBase,
+                                    bvhWalkNodes[children].childInfo0, bvhWalkNodes[children].childInfo1,
+                                    bvhWalkNodes[children].quantX, bvhWalkNodes[children].quantY,
+                                    bvhWalkNodes[children].quantZ);
                 vec3 scale = uintBitsToFloat(uvec3(n.exponents, n.exponents >> 8u, n.exponents >> 16u) << 23u & 0x7f800000u);
                 // Leaf children's primitive ranges: byte k of the prefix sum
                 // of the leaf counts (inner children's bytes masked to 0) is

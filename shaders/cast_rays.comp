@@ -21,11 +21,12 @@ layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer C
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= castParams.count) return;
-    CastRay r = CastRayArray(castParams.rayAddress).v[i];
-    Ray ray = Ray(r.origin, r.direction);
+    // The ray and its hit member by member (why: shaders/scene.glsl, loadMaterial).
+    CastRayArray rays = CastRayArray(castParams.rayAddress);
+    Ray ray = Ray(rays.v[i].origin, rays.v[i].direction);
     Hit hit;
     CastHit result = CastHit(vec3(0.0), 0.0, vec2(0.0), kNoObject, kNoObject);
-    if (traceClosest(ray, r.tMax, hit)) {
+    if (traceClosest(ray, rays.v[i].tMax, hit)) {
         Primitive prim = primitives[hit.primitive];
         vec3 p = ray.origin + hit.t * ray.dir;
         SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, materials[prim.material].textureScale);
@@ -36,5 +37,10 @@ void main() {
         result.object = primitiveObject(prim);
         result.primitive = hit.primitive;
     }
-    CastHitArray(castParams.hitAddress).v[i] = result;
+    CastHitArray hits = CastHitArray(castParams.hitAddress);
+    hits.v[i].normal = result.normal;
+    hits.v[i].t = result.t;
+    hits.v[i].uv = result.uv;
+    hits.v[i].object = result.object;
+    hits.v[i].primitive = result.primitive;
 }

@@ -16,6 +16,51 @@
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer RayTreeBuffer { RayTreeRecord record; };
 #define rayTree (RayTreeBuffer(tileParams.rayTreeAddress).record)
 
+// The record's entries are written member by member (why: shaders/scene.glsl, loadMaterial).
+void storeRayTreeRay(uint i, RayTreeRay r) {
+    rayTree.rays[i].origin = r.origin;
+    rayTree.rays[i].kind = r.kind;
+    rayTree.rays[i].direction = r.direction;
+    rayTree.rays[i].depth = r.depth;
+    rayTree.rays[i].point = r.point;
+    rayTree.rays[i].t = r.t;
+    rayTree.rays[i].normal = r.normal;
+    rayTree.rays[i].primitive = r.primitive;
+    rayTree.rays[i].weight = r.weight;
+    rayTree.rays[i].material = r.material;
+    rayTree.rays[i].ambient = r.ambient;
+    rayTree.rays[i].shape = r.shape;
+    rayTree.rays[i].diffuse = r.diffuse;
+    rayTree.rays[i].frontFace = r.frontFace;
+    rayTree.rays[i].specular = r.specular;
+    rayTree.rays[i].parent = r.parent;
+    rayTree.rays[i].emission = r.emission;
+    rayTree.rays[i].firstShadowRay = r.firstShadowRay;
+    rayTree.rays[i].contribution = r.contribution;
+    rayTree.rays[i].shadowRayCount = r.shadowRayCount;
+}
+
+void storeRayTreeShadowRay(uint i, RayTreeShadowRay s) {
+    rayTree.shadowRays[i].origin = s.origin;
+    rayTree.shadowRays[i].ray = s.ray;
+    rayTree.shadowRays[i].direction = s.direction;
+    rayTree.shadowRays[i].light = s.light;
+    rayTree.shadowRays[i].visibility = s.visibility;
+    rayTree.shadowRays[i].distance = s.distance;
+    rayTree.shadowRays[i].diffuse = s.diffuse;
+    rayTree.shadowRays[i].outcome = s.outcome;
+    rayTree.shadowRays[i].specular = s.specular;
+    rayTree.shadowRays[i].blocker = s.blocker;
+    rayTree.shadowRays[i].transmittance = s.transmittance;
+    rayTree.shadowRays[i].blockerT = s.blockerT;
+    rayTree.shadowRays[i].absorption = s.absorption;
+    rayTree.shadowRays[i].firstCrossing = s.firstCrossing;
+    rayTree.shadowRays[i].crossingCount = s.crossingCount;
+    rayTree.shadowRays[i].blockerMaterial = s.blockerMaterial;
+    rayTree.shadowRays[i].droppedCrossings = s.droppedCrossings;
+    rayTree.shadowRays[i].pad0 = s.pad0;
+}
+
 // The record's index of each pending ray of traceSamples' stack (kNoObject:
 // not recorded), the ray being shaded, and whether its reflection carries a
 // total internal reflection.
@@ -63,7 +108,7 @@ void rayTreePush(uint slot, uint kind, Ray ray, vec3 weight, uint depth) {
     r.firstShadowRay = rayTree.shadowRayCount;
     r.contribution = vec3(0.0);
     r.shadowRayCount = 0u;
-    rayTree.rays[i] = r;
+    storeRayTreeRay(i, r);
     gRayTreeStack[slot] = i;
 }
 
@@ -113,7 +158,12 @@ void rayTreeCrossing(uint primitive, uint material, float t, vec3 filterColour, 
         gRayTreeShadow.droppedCrossings += 1u;
     } else {
         rayTree.crossingCount = c + 1u;
-        rayTree.crossings[c] = RayTreeCrossing(filterColour, t, primitive, material, 0u, 0u);
+        rayTree.crossings[c].filterColour = filterColour;
+        rayTree.crossings[c].t = t;
+        rayTree.crossings[c].primitive = primitive;
+        rayTree.crossings[c].material = material;
+        rayTree.crossings[c].pad0 = 0u;
+        rayTree.crossings[c].pad1 = 0u;
         gRayTreeShadow.crossingCount += 1u;
     }
 }
@@ -184,7 +234,7 @@ void rayTreeShadowRayEnd(vec3 visibility) {
     s.transmittance = s.outcome == kShadowBlocked ? vec3(0.0) : s.transmittance * s.absorption;
     uint i = rayTree.shadowRayCount;
     rayTree.shadowRayCount = i + 1u;
-    rayTree.shadowRays[i] = s;
+    storeRayTreeShadowRay(i, s);
     // Shadow rays of one ray are consecutive: they are traced while it is shaded.
     rayTree.rays[gRayTreeCurrent].shadowRayCount += 1u;
 }

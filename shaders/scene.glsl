@@ -52,4 +52,26 @@ layout(std430, set = 0, binding = kBindingLightBuffer) readonly buffer LightBloc
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer CsgNodeArray { CsgNode v[]; };
 #define csgNodes (CsgNodeArray(params.csgNodeAddress).v)
 
+// A struct with vec3 members is read and written through a device address
+// member by member, never as one struct: loadMaterial here (its padding left
+// unread), a node in bvh.glsl, surfaceAttributesAt in texture.glsl, the ray
+// tree's records in ray_tree.glsl, the rays and hits of cast_rays.comp; a
+// light's members are read where they are used. The driver runs the same
+// loads either way, but the Khronos layer's GPU-assisted validation as
+// Debian 12 ships it (its SPIRV-Tools predates
+// KhronosGroup/SPIRV-Tools#5257) sizes a whole-struct access as if every
+// vec3 took 16 bytes, so the access to an array's last element reads as out
+// of bounds, and the tier that runs that validation (tests/gpu_readiness.py)
+// could not tell a real one from it.
+Material loadMaterial(uint k) {
+    return Material(materials[k].diffuse, 0.0, materials[k].specular, 0.0, materials[k].ka, materials[k].kd,
+                    materials[k].ks, materials[k].shininess, materials[k].kr, materials[k].kt, materials[k].ior,
+                    materials[k].flags, materials[k].checkerColor, materials[k].checkerSize,
+                    materials[k].checkerOrigin, 0.0, materials[k].absorption, 0.0, materials[k].diffuseTexture,
+                    materials[k].normalMap, materials[k].emissionTexture, materials[k].roughnessTexture,
+                    materials[k].textureScale, materials[k].normalStrength, materials[k].glossExponent,
+                    materials[k].roughness, materials[k].transmissionColor, 0.0, materials[k].emission, 0.0,
+                    materials[k].ambientColor, 0.0);
+}
+
 #endif

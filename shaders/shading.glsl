@@ -15,22 +15,25 @@ struct LocalShading {
 #include "ray_tree.glsl"
 #endif
 
-// A point on area light `light` for the shaded point p, from u uniform in
-// [0, 1)^2. A rectangle: uniform over its area (position + (u.x - 1/2) u +
-// (u.y - 1/2) v). A sphere: pbrt-v4's Sphere::Sample (Pharr, Jakob and
-// Humphreys, 4th ed., 6.2.4): the direction uniform in the cone of
-// directions the sphere fills as seen from p (small cones through the
-// Taylor expansion of sin^2 theta there), and the point where it meets the
-// sphere's near side; from inside the sphere, uniform over its surface.
-vec3 sampleLightPoint(Light light, vec3 p, vec2 u) {
-    if (light.type == kLightRect) return light.position + (u.x - 0.5) * light.u + (u.y - 0.5) * light.v;
+// A point on area light `light` (an index into lights) for the shaded point
+// p, from u uniform in [0, 1)^2. A rectangle: uniform over its area
+// (position + (u.x - 1/2) u + (u.y - 1/2) v). A sphere: pbrt-v4's
+// Sphere::Sample (Pharr, Jakob and Humphreys, 4th ed., 6.2.4): the direction
+// uniform in the cone of directions the sphere fills as seen from p (small
+// cones through the Taylor expansion of sin^2 theta there), and the point
+// where it meets the sphere's near side; from inside the sphere, uniform
+// over its surface.
+vec3 sampleLightPoint(uint light, vec3 p, vec2 u) {
+    vec3 centre = lights[light].position;
+    if (lights[light].type == kLightRect)
+        return centre + (u.x - 0.5) * lights[light].u + (u.y - 0.5) * lights[light].v;
     const float kTwoPi = 6.28318530718;
     float phi = kTwoPi * u.y;
-    vec3 toCentre = light.position - p;
-    float r = light.radius, dist2 = dot(toCentre, toCentre);
+    vec3 toCentre = centre - p;
+    float r = lights[light].radius, dist2 = dot(toCentre, toCentre);
     if (dist2 <= r * r) {
         float z = 1.0 - 2.0 * u.x, rho = sqrt(max(0.0, 1.0 - z * z));
-        return light.position + r * vec3(rho * cos(phi), rho * sin(phi), z);
+        return centre + r * vec3(rho * cos(phi), rho * sin(phi), z);
     }
     float sinThetaMax = r / sqrt(dist2), sin2ThetaMax = sinThetaMax * sinThetaMax;
     float cosThetaMax = sqrt(max(0.0, 1.0 - sin2ThetaMax));
@@ -51,7 +54,7 @@ vec3 sampleLightPoint(Light light, vec3 p, vec2 u) {
     vec3 x = vec3(1.0 + sign * wc.x * wc.x * a, sign * b, -sign * wc.x);
     vec3 y = vec3(b, sign + wc.y * wc.y * a, -wc.y);
     vec3 normal = -(sinAlpha * cos(phi) * x + sinAlpha * sin(phi) * y + cosAlpha * wc);
-    return light.position + r * normal;
+    return centre + r * normal;
 }
 
 // Ambient ka Ca A (Ca the material's ambient colour, Cd without one) plus,
@@ -181,7 +184,7 @@ bool nextShadowRay(inout LocalShading s, inout LightWalk w, Material m, vec3 p, 
         float dist = w.dist;
         if (w.area) {
             vec2 u = sampleDimension(sampleIndex * w.count + k, patternSize * w.count, pixelSeed, kDimLightBase + i);
-            vec3 toPoint = sampleLightPoint(lights[i], p, u) - p;
+            vec3 toPoint = sampleLightPoint(i, p, u) - p;
             dist = length(toPoint);
             l = toPoint / dist;
         }

@@ -30,6 +30,12 @@ layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer Su
 };
 #define surfaceAttributes (SurfaceAttributesArray(params.attributeAddress).v)
 
+// Primitive i's attributes, member by member (why: shaders/scene.glsl, loadMaterial).
+SurfaceAttributes surfaceAttributesAt(uint i) {
+    return SurfaceAttributes(surfaceAttributes[i].uv0, surfaceAttributes[i].uv1, surfaceAttributes[i].uv2,
+                             vec2(0.0), surfaceAttributes[i].tangents, surfaceAttributes[i].hasTangents);
+}
+
 // Texture coordinates of primitive `index` at its point p; n is the shape's
 // geometric normal there (as the intersection gave it), which tells a
 // box's faces and a cylinder's caps apart. textureScale: the material's
@@ -45,7 +51,7 @@ SurfaceUv surfaceUv(Primitive prim, uint index, vec3 n, vec3 p, float textureSca
     // A triangle of a textured mesh (the loader refuses textures on others).
     vec3 v0 = triangleV0(prim), v1 = triangleV1(prim), v2 = triangleV2(prim);
     if (all(equal(params.attributeAddress, uvec2(0u)))) return triangleUv(v0, v1, v2, vec2(0.0), vec2(0.0), vec2(0.0), p);
-    SurfaceAttributes at = surfaceAttributes[index];
+    SurfaceAttributes at = surfaceAttributesAt(index);
     SurfaceUv s = triangleUv(v0, v1, v2, at.uv0, at.uv1, at.uv2, p);
     // A model file's vertex tangents, interpolated as vertex normals are.
     if (at.hasTangents != 0u) s.tangent = shadingNormalTriangle(v0, v1, v2, at.tangents, p);

@@ -223,7 +223,7 @@ void applyTextures(inout ShadedHit h, Primitive prim, Hit hit, vec3 dir) {
 bool surfaceAt(inout PendingRay pending, Hit hit, bool lens, out ShadedHit h, inout SampleResult result) {
     Primitive prim = primitives[hit.primitive];
     Ray ray = pending.ray;
-    h.m = materials[prim.material];
+    h.m = loadMaterial(prim.material);
     h.material = prim.material;
     // Which side was hit is decided by the geometric normal; shading uses the
     // normal facing the incoming ray (two-sided surfaces). The geometric

@@ -17,8 +17,11 @@ if ! compgen -G 'build/python/whitted*.so' >/dev/null; then
   exit 1
 fi
 # Two tests at a time: a test's process spends much of its time on one core
-# (start-up, lavapipe compiling the tracer), so two fill the machine.
-ctest --test-dir build --output-on-failure -j "$(nproc)"
+# (start-up, lavapipe compiling the tracer), so two fill the machine. The
+# GPU-readiness tier (label gpu_readiness, tests/README.md "GPU readiness")
+# runs by itself: GPU-assisted validation makes lavapipe compile each
+# pipeline for minutes.
+ctest --test-dir build --output-on-failure -j "$(nproc)" -LE gpu_readiness
 # The Python module (tests/python/): the same pixels as the CLI, uploads,
 # errors, threads, Ctrl+C, memory, and `pip install .` into a fresh venv.
 PYTHONPATH=build/python WHITTED_VALIDATION=1 /usr/bin/python3 -m pytest tests/python -q
