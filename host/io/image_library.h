@@ -9,12 +9,10 @@
 // (measured: see tools/benchmark_results/README.md). A process that reads
 // no image and writes none or only PNG, PPM and PGM (`whitted render` into
 // PNG without textures, `whitted view` without textures, a refused scene,
-// `whitted devices`) now never pays it, and `whitted render` into other
-// formats loads it on a second thread while lavapipe builds the pipeline
-// when a core is idle, which finishes sooner. On a busy machine the load held up the
-// pipeline build (lowering the thread's priority did not help, so it is
-// waiting on the loader's locks, not for a core), hence the condition on an
-// idle core at that moment.
+// `whitted devices`) never pays it, and `whitted render` into other
+// formats loads it on a second thread while lavapipe builds the pipeline,
+// but only when a core is idle: the loader's locks, not the cores, are what
+// the two would contend for (tools/benchmark_results/notes-build.md).
 //
 // The dynamic loader's state is per process, so the loaded module is too:
 // imageLibrary() hands out the one instance, loading it on first use.
