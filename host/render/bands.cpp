@@ -18,7 +18,8 @@ constexpr uint32_t kTileSize = 128;
 // Dispatches recorded into one command buffer and submission, at most.
 constexpr size_t kDispatchesPerSubmit = 4;
 // A submission that runs longer than this halves the dispatches of the next
-// ones, so that progress (and with it Ctrl+C in Python) comes several times
+// ones (one far shorter doubles them again, up to kDispatchesPerSubmit), so
+// that progress (and with it Ctrl+C in Python) comes several times
 // a second even where one sample costs much.
 constexpr std::chrono::milliseconds kSubmitTarget{250};
 
@@ -116,8 +117,13 @@ public:
         vk::Result waited = parts_.ctx.device.waitForFences(*fence_, VK_TRUE, UINT64_MAX);
         if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
         parts_.ctx.device.resetFences(*fence_);
-        if (std::chrono::steady_clock::now() - submitted > kSubmitTarget && recorded_ > 1)
+        // Fewer dispatches after a long submission, more again after short
+        // ones: lavapipe compiles the pipeline during the first submission.
+        auto took = std::chrono::steady_clock::now() - submitted;
+        if (took > kSubmitTarget && recorded_ > 1)
             dispatchesPerSubmit_ = std::max<size_t>(1, recorded_ / 2);
+        else if (took < kSubmitTarget / 4 && recorded_ == dispatchesPerSubmit_)
+            dispatchesPerSubmit_ = std::min(kDispatchesPerSubmit, 2 * dispatchesPerSubmit_);
 
         // One camera ray per sample: fewer means the driver cut a run short.
         const auto* counters = static_cast<const gpu::RayCounters*>(parts_.counters.mapped);
