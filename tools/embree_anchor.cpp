@@ -23,6 +23,7 @@
 // Exit statuses as whitted's: 0 success (also for an unsupported scene),
 // 1 failure, 2 bad input. This program is for the benchmark only; whitted
 // itself does not link Embree.
+#include "device_types.h"  // hashPcg, the shader's pixel seed
 #include "scene/scene_loader.h"
 
 #include <CLI/CLI.hpp>
@@ -84,12 +85,6 @@ glm::vec2 cmjSample(uint32_t s, uint32_t n, uint32_t p) {
 glm::vec2 pixelSampleOffset(uint32_t s, uint32_t n, uint32_t pixelSeed) {
     if (n == 1u) return glm::vec2(0.5f);
     return cmjSample(s, n, pixelSeed);
-}
-
-uint32_t hashPcg(uint32_t v) {
-    uint32_t state = v * 747796405u + 2891336453u;
-    uint32_t word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
-    return (word >> 22u) ^ word;
 }
 
 // shaders/ray.glsl's offsetRay (Wächter and Binder 2019).
@@ -286,22 +281,18 @@ template <> struct Packet<16> {
     static void occluded(const int* v, RTCScene s, RTCIntersectContext* c, Ray* r) { rtcOccluded16(v, s, c, r); }
 };
 
-// One packet of camera rays (a kW x N/kW block of pixels, one sample each),
-// then per light one packet of shadow rays from their hits.
+// Fills one packet of camera rays: a kW x N/kW block of pixels, one sample each.
 template <int N>
-void tracePacket(const AnchorScene& a, const CameraFrame& camera, const Settings& s, int x0, int y0, uint32_t sample,
-                 Counts& counts) {
-    using P = Packet<N>;
-    constexpr int kW = P::kW;
-    alignas(64) int valid[N];
-    alignas(64) typename P::Hit rh;
+void fillCameraPacket(const CameraFrame& camera, const Settings& s, int x0, int y0, uint32_t sample, int* valid,
+                      typename Packet<N>::Hit& rh, Counts& counts) {
+    constexpr int kW = Packet<N>::kW;
     glm::vec2 size(float(s.width), float(s.height));
     for (int i = 0; i < N; ++i) {
         int x = x0 + i % kW, y = y0 + i / kW;
         valid[i] = x < s.width && y < s.height ? -1 : 0;
         glm::vec3 d(0, 0, 1);
         if (valid[i]) {
-            uint32_t pixelSeed = hashPcg((uint32_t(y) * uint32_t(s.width) + uint32_t(x)) ^ s.seed);
+            uint32_t pixelSeed = whitted::gpu::hashPcg((uint32_t(y) * uint32_t(s.width) + uint32_t(x)) ^ s.seed);
             glm::vec2 offset = pixelSampleOffset(sample, s.spp, pixelSeed);
             d = cameraDirection(camera, glm::vec2(float(x), float(y)) + offset, size);
             ++counts.camera;
@@ -317,17 +308,19 @@ void tracePacket(const AnchorScene& a, const CameraFrame& camera, const Settings
         rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][i] = RTC_INVALID_GEOMETRY_ID;
     }
-    RTCIntersectContext context;
-    rtcInitIntersectContext(&context);
-    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-    if (a.scene) P::intersect(valid, a.scene, &context, &rh);
-    if (!s.shadows) return;
+}
 
-    // Each lane's hit: point, geometric normal facing the ray, shading normal, lit.
+// Each lane's hit: point, geometric normal facing the ray, shading normal, lit.
+template <int N>
+struct PacketHits {
     glm::vec3 point[N], ng[N], ns[N];
     bool lit[N];
+};
+
+template <int N>
+void shadePacketHits(const AnchorScene& a, const int* valid, const typename Packet<N>::Hit& rh, PacketHits<N>& h) {
     for (int i = 0; i < N; ++i) {
-        lit[i] = false;
+        h.lit[i] = false;
         if (!valid[i]) continue;
         glm::vec3 o(rh.ray.org_x[i], rh.ray.org_y[i], rh.ray.org_z[i]);
         glm::vec3 d(rh.ray.dir_x[i], rh.ray.dir_y[i], rh.ray.dir_z[i]);
@@ -363,12 +356,17 @@ void tracePacket(const AnchorScene& a, const CameraFrame& camera, const Settings
         if (glm::dot(shading, n) < 0.0f) shading = -shading;
         float facing = glm::dot(shading, -d);
         if (facing < 1e-3f) shading = glm::normalize(shading + (1e-3f - facing) * -d);
-        point[i] = offsetRay(o + t * d, n);
-        ng[i] = n;
-        ns[i] = shading;
-        lit[i] = a.surfaces[surface].lit;
+        h.point[i] = offsetRay(o + t * d, n);
+        h.ng[i] = n;
+        h.ns[i] = shading;
+        h.lit[i] = a.surfaces[surface].lit;
     }
+}
 
+// Per light, one packet of shadow rays from the lanes' hits.
+template <int N>
+void traceShadowPackets(const AnchorScene& a, const PacketHits<N>& h, Counts& counts) {
+    using P = Packet<N>;
     for (const AnchorLight& light : a.lights) {
         alignas(64) int shadowValid[N];
         alignas(64) typename P::Ray ray;
@@ -384,24 +382,24 @@ void tracePacket(const AnchorScene& a, const CameraFrame& camera, const Settings
             ray.mask[i] = ~0u;
             ray.id[i] = unsigned(i);
             ray.flags[i] = 0;
-            if (!lit[i]) continue;
+            if (!h.lit[i]) continue;
             glm::vec3 l;
             float dist;
             if (light.directional) {
                 l = light.toLight;
                 dist = 3.0e38f;
             } else {
-                glm::vec3 toLight = light.position - point[i];
+                glm::vec3 toLight = light.position - h.point[i];
                 dist = glm::length(toLight);
                 l = toLight / dist;
             }
-            if (glm::dot(ns[i], l) <= 0.0f || glm::dot(ng[i], l) <= 0.0f) continue;
+            if (glm::dot(h.ns[i], l) <= 0.0f || glm::dot(h.ng[i], l) <= 0.0f) continue;
             ++counts.shadow;
             int plane;
-            if (nearestPlane(a, point[i], l, dist, &plane) < dist) continue;  // a plane blocks it
+            if (nearestPlane(a, h.point[i], l, dist, &plane) < dist) continue;  // a plane blocks it
             shadowValid[i] = -1;
             any = 1;
-            ray.org_x[i] = point[i].x; ray.org_y[i] = point[i].y; ray.org_z[i] = point[i].z;
+            ray.org_x[i] = h.point[i].x; ray.org_y[i] = h.point[i].y; ray.org_z[i] = h.point[i].z;
             ray.dir_x[i] = l.x; ray.dir_y[i] = l.y; ray.dir_z[i] = l.z;
             ray.tfar[i] = dist;
         }
@@ -411,6 +409,24 @@ void tracePacket(const AnchorScene& a, const CameraFrame& camera, const Settings
             P::occluded(shadowValid, a.scene, &shadowContext, &ray);
         }
     }
+}
+
+// One packet of camera rays, then per light one packet of shadow rays from their hits.
+template <int N>
+void tracePacket(const AnchorScene& a, const CameraFrame& camera, const Settings& s, int x0, int y0, uint32_t sample,
+                 Counts& counts) {
+    using P = Packet<N>;
+    alignas(64) int valid[N];
+    alignas(64) typename P::Hit rh;
+    fillCameraPacket<N>(camera, s, x0, y0, sample, valid, rh, counts);
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    if (a.scene) P::intersect(valid, a.scene, &context, &rh);
+    if (!s.shadows) return;
+    PacketHits<N> hits;
+    shadePacketHits<N>(a, valid, rh, hits);
+    traceShadowPackets<N>(a, hits, counts);
 }
 
 // Traces every sample of the image on `threads` threads, rows of packets
