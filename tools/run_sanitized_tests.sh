@@ -23,11 +23,15 @@ cd "$(dirname "$0")/.."
 
 build=build-asan
 # Not a unity build (CMakeLists.txt): here every source compiles on its own
-# includes. Without the Python module, which no test here loads. -O1 -g1
-# (line tables only): full debug info makes the sanitized vulkan.hpp code
-# compile far slower for no better stack traces.
+# includes, but for the precompiled vulkan_raii.hpp and nlohmann/json.hpp
+# (WHITTED_PCH), which most of the build's time would otherwise parse again
+# for each source (tools/benchmark_results/notes-build.md). Without the
+# Python module, which no test here loads. -O1 -g1 (line tables only): full
+# debug info makes the sanitized vulkan.hpp code compile far slower for no
+# better stack traces.
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-  -DWHITTED_SANITIZE=ON -DWHITTED_BUILD_TESTS=ON -DCMAKE_UNITY_BUILD=OFF -DWHITTED_BUILD_PYTHON=OFF >/dev/null
+  -DWHITTED_SANITIZE=ON -DWHITTED_BUILD_TESTS=ON -DCMAKE_UNITY_BUILD=OFF -DWHITTED_PCH=ON -DWHITTED_BUILD_PYTHON=OFF \
+  >/dev/null
 cmake --build "$build"
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1
