@@ -34,6 +34,7 @@
 #   --work DIR   the working folder (renders, the mesh) [a new one under TMPDIR, removed at the end]
 #   --kit DIR    the kit [this script's folder]
 set -uo pipefail
+export LC_ALL=C  # decimal points in printf's numbers
 
 fail() { echo "gpu_check.sh: $1" >&2; exit "${2:-1}"; }
 
@@ -101,6 +102,7 @@ TRIANGLES=$(kit_value mesh_triangles)
 START=${EPOCHREALTIME/./}
 elapsed_ms() { echo $(( (${EPOCHREALTIME/./} - START) / 1000 )); }
 seconds() { printf '%d.%03d' $(($1 / 1000)) $(($1 % 1000)); }  # milliseconds as seconds
+number() { [[ $2 =~ ^-?[0-9] ]] && printf "$1" "$2" || printf '%s' "${2:-?}"; }  # number FORMAT VALUE, for people
 json_string() {  # a JSON string of $1
     local s=${1//\\/\\\\}
     s=${s//\"/\\\"}; s=${s//$'\n'/\\n}; s=${s//$'\t'/\\t}; s=${s//$'\r'/}
@@ -179,8 +181,8 @@ for path in "${PATHS[@]}"; do
         reference_measure=$("$TOOL" measure "${reference%.png}.json" 2>/dev/null || echo null)
         SCENES_JSON+=("{$entry, \"psnr\": ${psnr:-null}, \"measures\": ${measure:-null}, \"reference_measures\": $reference_measure}")
         [[ $db == null ]] && db=identical
-        printf '%-22s %-9s %10s %9s %10s %s\n' "$name" "$path" "$db" "$(seconds $WALL_MS)" \
-            "$(json_field "$measure" render_s)" "$(json_field "$measure" mrays_per_s)"
+        printf '%-22s %-9s %10s %9s %10s %s\n' "$name" "$path" "$(number %.2f "$db")" "$(seconds $WALL_MS)" \
+            "$(number %.4f "$(json_field "$measure" render_s)")" "$(number %.2f "$(json_field "$measure" mrays_per_s)")"
         DEVICE_TYPE=$(grep -o '"device_type":"[^"]*"' <<<"$measure" | cut -d'"' -f4)
     done
 done
@@ -241,7 +243,8 @@ for path in "${PATHS[@]}"; do
         median=${measure##*\"median\":}
         BENCH_JSON+=("{\"part\": \"$name\", \"trace\": \"$path\", \"width\": $width, \"height\": $height, \"spp\": $spp, \"max_depth\": 6, \"measure\": \"$key\", \"result\": $measure}")
         printf '%-16s %-9s %11s %4s %12s %s\n' "$name" "$path" "${width}x$height" "$spp" \
-            "$(json_field "$median" render_s)" "$(json_field "$median" "$key") ($key, ${#records[@]} runs)"
+            "$(number %.4f "$(json_field "$median" render_s)")" \
+            "$(number %.2f "$(json_field "$median" "$key")") ($key, ${#records[@]} runs)"
     done
 done
 

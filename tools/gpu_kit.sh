@@ -12,7 +12,8 @@
 #                    cannot run the check's comparison; for trying the build)
 #
 # What it holds:
-#   whitted          a wrapper: bin/whitted with lib/ as its library path
+#   whitted          a wrapper: bin/whitted with the kit's library path
+#   kit_env.sh       that path (sourced by the wrapper and gpu_check.sh)
 #   bin/             whitted built headless (-DWHITTED_BUILD_VIEW=OFF: no GLFW,
 #                    no ImGui), no Python module, its image module built from
 #                    stb_image (-DWHITTED_IMAGE_LIBRARY=stb: OpenImageIO's
@@ -21,10 +22,14 @@
 #                    all stripped. The shaders are embedded in whitted.
 #   lib/             every shared library these need as ldd lists them but
 #                    glibc's own (libc, libm, libdl, libpthread, librt, the
-#                    dynamic loader: the machine's must be used), libvulkan's
-#                    loader among them; and the libraries NVIDIA's Vulkan
-#                    driver (libGLX_nvidia.so.0) loads that a bare system may
-#                    lack: glvnd's libGLdispatch, libXext and libX11's chain.
+#                    dynamic loader: the machine's must be used); the Vulkan
+#                    loader (whitted opens it at run time); and the libraries
+#                    NVIDIA's Vulkan driver (libGLX_nvidia.so.0) loads that a
+#                    bare system may lack: glvnd's libGLdispatch, libXext and
+#                    libX11's chain. lib/cxx/: libstdc++ and libgcc_s, which
+#                    need a newer glibc than the rest; kit_env.sh leaves them
+#                    out where the machine's glibc is older than they need and
+#                    it has a libstdc++ of its own.
 #   scenes/          scenes/*.xml and the textures they read
 #   bench/           the benchmark's mesh1m scene (tools/generate_scenes.py
 #                    mesh 1000000) and its OBJ's SHA-256; the check writes the
