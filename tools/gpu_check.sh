@@ -197,7 +197,7 @@ if out_of_time; then
     SKIPPED=$((SKIPPED + 1))
 else
     t0=${EPOCHREALTIME/./}
-    cp "$KIT/bench/mesh1m.xml" "$WORK/bench/mesh1m.xml"
+    cp "$KIT/bench/mesh1m.xml" "$WORK/bench/mesh1m.xml" || failure "the kit has no bench/mesh1m.xml"
     if "$TOOL" mesh-obj "$TRIANGLES" "$WORK/bench/mesh1m.obj"; then
         if ! command -v sha256sum >/dev/null; then
             mesh_note="written; sha256sum missing here, not checked"

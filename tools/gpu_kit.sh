@@ -17,7 +17,7 @@
 #   bin/             whitted built headless (-DWHITTED_BUILD_VIEW=OFF: no GLFW,
 #                    no ImGui), no Python module, its image module built from
 #                    stb_image (-DWHITTED_IMAGE_LIBRARY=stb: OpenImageIO's
-#                    module needs about 260 libraries, 390 MB), and whitted_kit
+#                    module needs hundreds of libraries), and whitted_kit
 #                    (tools/gpu_kit/whitted_kit.cpp: PSNR, records, the mesh);
 #                    all stripped. The shaders are embedded in whitted.
 #   lib/             every shared library these need as ldd lists them but

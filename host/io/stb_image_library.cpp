@@ -2,7 +2,7 @@
 // -DWHITTED_IMAGE_LIBRARY=stb): Sean Barrett's stb_image decoders behind the
 // ImageLibrary interface of host/io/image_library.h, for a build that
 // carries its shared libraries along (the GPU kit, tools/gpu_kit.sh), where
-// OpenImageIO's module would need some 260 of them. The only file that
+// OpenImageIO's module would need hundreds of them. The only file that
 // includes stb_image.h.
 //
 // It reads PNG (8 and 16 bits), JPEG, BMP, TGA, GIF, PNM and Radiance HDR.
