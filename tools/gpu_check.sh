@@ -63,6 +63,8 @@ while [[ $# -gt 0 ]]; do
     esac
 done
 [[ -n $OUTDIR ]] || fail "usage: gpu_check.sh OUTDIR [options] (see --help)" 2
+# A copy that lost its modes on the way (run it as `bash gpu_check.sh`) gets them back.
+[[ -x $KIT/bin/whitted || ! -f $KIT/bin/whitted ]] || chmod u+x "$KIT"/bin/* "$KIT/whitted" 2>/dev/null
 [[ -x $KIT/bin/whitted && -f $KIT/KIT.json ]] ||
     fail "$KIT is not a GPU kit: run the gpu_check.sh inside one (tools/gpu_kit.sh builds it) or pass --kit" 2
 mkdir -p "$OUTDIR" || fail "cannot create $OUTDIR"
