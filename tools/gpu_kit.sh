@@ -39,7 +39,7 @@
 #   gpu_check.sh     tools/gpu_check.sh
 #   KIT.json         what was built from what: commit, driver, glibc needed
 #
-# Needs what the ordinary build needs (tools/install_deps.sh), libstb-dev, and
+# Needs what the ordinary build needs (tools/install_deps.sh --all: libstb-dev among them), and
 # a Vulkan driver here (lavapipe) for the references. Exit statuses: 0 built,
 # 1 a step failed, 2 bad arguments.
 set -euo pipefail

@@ -44,6 +44,7 @@ test_packages=(
   assimp-testmodels                                    # real models for the tests and the glTF/OBJ fuzzers' seeds
   povray                                               # the POV-Ray cross-check and the benchmark's opponent
   libembree-dev                                        # the benchmark's limit anchor (tools/embree_anchor.cpp)
+  libstb-dev                                           # the GPU kit's image module (tools/gpu_kit.sh, -DWHITTED_IMAGE_LIBRARY=stb)
   python3-matplotlib                                   # the benchmark's plot (tools/bench/plot.py)
   python3-distributed python3-openimageio              # the render farm and its test (tools/farm.py, tests/farm_test.py)
   clang-14 libfuzzer-14-dev libclang-rt-14-dev         # the fuzz targets (tools/run_fuzzer.sh)
