@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iterator>
+#include <string_view>
+#include <utility>
 #include <stdexcept>
 
 namespace whitted {
@@ -12,6 +14,15 @@ namespace whitted {
 bool validationFromEnvironment() {
     const char* v = std::getenv("WHITTED_VALIDATION");
     return v && *v && std::string(v) != "0";
+}
+
+bool discreteMemoryFromEnvironment() {
+#ifdef WHITTED_TEST_HOOKS
+    const char* v = std::getenv("WHITTED_DISCRETE_MEMORY");
+    return v && *v && std::string(v) != "0";
+#else
+    return false;
+#endif
 }
 namespace {
 
@@ -52,13 +63,29 @@ constexpr const char* kRayQueryExtensions[] = {VK_KHR_ACCELERATION_STRUCTURE_EXT
                                                VK_KHR_RAY_QUERY_EXTENSION_NAME,
                                                VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
 
+bool hasExtension(const std::vector<vk::ExtensionProperties>& extensions, std::string_view name) {
+    return std::any_of(extensions.begin(), extensions.end(),
+                       [&](const vk::ExtensionProperties& e) { return std::string_view(e.extensionName.data()) == name; });
+}
+
+// A device that works in host memory (lavapipe, an integrated GPU): a
+// memory type both device-local and host-visible holds what the shader
+// and the host share, with no staging copy.
+bool hasUnifiedMemory(const vk::raii::PhysicalDevice& device) {
+    vk::PhysicalDeviceType type = device.getProperties().deviceType;
+    if (type != vk::PhysicalDeviceType::eCpu && type != vk::PhysicalDeviceType::eIntegratedGpu) return false;
+    auto shared = vk::MemoryPropertyFlagBits::eDeviceLocal | vk::MemoryPropertyFlagBits::eHostVisible |
+                  vk::MemoryPropertyFlagBits::eHostCoherent;
+    auto memory = device.getMemoryProperties();
+    for (uint32_t i = 0; i < memory.memoryTypeCount; ++i)
+        if ((memory.memoryTypes[i].propertyFlags & shared) == shared) return true;
+    return false;
+}
+
 bool hasRayQuery(const vk::raii::PhysicalDevice& device) {
     auto extensions = device.enumerateDeviceExtensionProperties();
     for (const char* wanted : kRayQueryExtensions)
-        if (std::none_of(extensions.begin(), extensions.end(), [&](const vk::ExtensionProperties& e) {
-                return std::string_view(e.extensionName.data()) == wanted;
-            }))
-            return false;
+        if (!hasExtension(extensions, wanted)) return false;
     auto features = device.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceAccelerationStructureFeaturesKHR,
                                         vk::PhysicalDeviceRayQueryFeaturesKHR>();
     return features.get<vk::PhysicalDeviceAccelerationStructureFeaturesKHR>().accelerationStructure &&
@@ -225,14 +252,34 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         physicalDevice.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceVulkan12Features>()
             .get<vk::PhysicalDeviceVulkan12Features>()
             .shaderSampledImageArrayNonUniformIndexing;
-    vk::PhysicalDeviceRayQueryFeaturesKHR rayQueryFeatures{.pNext = &features12, .rayQuery = VK_TRUE};
-    vk::PhysicalDeviceAccelerationStructureFeaturesKHR accelerationFeatures{.pNext = &rayQueryFeatures,
-                                                                            .accelerationStructure = VK_TRUE};
-    if (info_.rayQuery)
+    void* chain = &features12;
+    vk::PhysicalDeviceRayQueryFeaturesKHR rayQueryFeatures{.rayQuery = VK_TRUE};
+    vk::PhysicalDeviceAccelerationStructureFeaturesKHR accelerationFeatures{.accelerationStructure = VK_TRUE};
+    if (info_.rayQuery) {
         deviceExtensions.insert(deviceExtensions.end(), std::begin(kRayQueryExtensions), std::end(kRayQueryExtensions));
-    device = vk::raii::Device(physicalDevice, vk::DeviceCreateInfo{.pNext = info_.rayQuery
-                                                                                ? static_cast<void*>(&accelerationFeatures)
-                                                                                : static_cast<void*>(&features12),
+        rayQueryFeatures.pNext = std::exchange(chain, &rayQueryFeatures);
+        accelerationFeatures.pNext = std::exchange(chain, &accelerationFeatures);
+    }
+    // Memory priorities where offered (vk/memory.h gives each block one),
+    // and pageable device-local memory with them: the driver may then move
+    // low-priority memory out of the device when it runs short.
+    auto extensions = physicalDevice.enumerateDeviceExtensionProperties();
+    auto offered = physicalDevice.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceMemoryPriorityFeaturesEXT,
+                                               vk::PhysicalDevicePageableDeviceLocalMemoryFeaturesEXT>();
+    vk::PhysicalDeviceMemoryPriorityFeaturesEXT priorityFeatures{.memoryPriority = VK_TRUE};
+    vk::PhysicalDevicePageableDeviceLocalMemoryFeaturesEXT pageableFeatures{.pageableDeviceLocalMemory = VK_TRUE};
+    bool priorities = hasExtension(extensions, VK_EXT_MEMORY_PRIORITY_EXTENSION_NAME) &&
+                      offered.get<vk::PhysicalDeviceMemoryPriorityFeaturesEXT>().memoryPriority;
+    if (priorities) {
+        deviceExtensions.push_back(VK_EXT_MEMORY_PRIORITY_EXTENSION_NAME);
+        priorityFeatures.pNext = std::exchange(chain, &priorityFeatures);
+        if (hasExtension(extensions, VK_EXT_PAGEABLE_DEVICE_LOCAL_MEMORY_EXTENSION_NAME) &&
+            offered.get<vk::PhysicalDevicePageableDeviceLocalMemoryFeaturesEXT>().pageableDeviceLocalMemory) {
+            deviceExtensions.push_back(VK_EXT_PAGEABLE_DEVICE_LOCAL_MEMORY_EXTENSION_NAME);
+            pageableFeatures.pNext = std::exchange(chain, &pageableFeatures);
+        }
+    }
+    device = vk::raii::Device(physicalDevice, vk::DeviceCreateInfo{.pNext = chain,
                                                                    .queueCreateInfoCount = 1,
                                                                    .pQueueCreateInfos = &queueInfo,
                                                                    .enabledExtensionCount = uint32_t(deviceExtensions.size()),
@@ -244,13 +291,32 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
     pipelineCache = std::make_unique<PipelineCache>(
         device, physicalDevice.getProperties(),
         options.pipelineCacheFolder ? *options.pipelineCacheFolder : pipelineCacheFolderFromEnvironment());
+    events = std::make_unique<DeviceEvents>(info_.name, injectedFaultFromEnvironment());
+    bool discrete = options.discreteMemory.value_or(discreteMemoryFromEnvironment());
+    memory = std::make_unique<MemoryAllocator>(
+        physicalDevice, device,
+        MemoryOptions{.unified = !discrete && hasUnifiedMemory(physicalDevice), .priorities = priorities},
+        events.get());
 }
 
-void VulkanContext::waitForFence(vk::Fence fence) {
+void VulkanContext::submit(const vk::SubmitInfo& info, vk::Fence fence) const {
+    events->submission();
+    try {
+        queue.submit(info, fence);
+    } catch (const vk::SystemError& e) {
+        events->failSubmission(vk::Result(e.code().value()));
+    }
+}
+
+void VulkanContext::waitForFence(vk::Fence fence) const {
     // vk::raii turns VK_ERROR_DEVICE_LOST and friends into vk::SystemError.
-    vk::Result result = device.waitForFences(fence, VK_TRUE, UINT64_MAX);
-    if (result != vk::Result::eSuccess)
-        throw std::runtime_error("vkWaitForFences: " + vk::to_string(result));
+    vk::Result result;
+    try {
+        result = device.waitForFences(fence, VK_TRUE, UINT64_MAX);
+    } catch (const vk::SystemError& e) {
+        events->failSubmission(vk::Result(e.code().value()));
+    }
+    if (result != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(result));
 }
 
 }  // namespace whitted
