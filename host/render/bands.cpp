@@ -84,7 +84,9 @@ public:
 
     Batch(const BandResources& parts, RenderResult& result, Progress& progress)
         : parts_(parts), result_(result), progress_(progress),
-          commandBuffers_(parts.ctx.device, {.commandPool = *parts.ctx.commandPool,
+          commandPool_(parts.ctx.device, vk::CommandPoolCreateInfo{.flags = vk::CommandPoolCreateFlagBits::eTransient,
+                                                                   .queueFamilyIndex = parts.ctx.queueFamily}),
+          commandBuffers_(parts.ctx.device, {.commandPool = *commandPool_,
                                              .level = vk::CommandBufferLevel::ePrimary, .commandBufferCount = 1}),
           fence_(parts.ctx.device, vk::FenceCreateInfo{}) {}
 
@@ -161,7 +163,7 @@ private:
     void begin() {
         if (open_) return;
         vk::raii::CommandBuffer& cmd = commandBuffers_.front();
-        cmd.reset();
+        commandPool_.reset();  // the whole pool: cheaper than one buffer's reset on some drivers
         cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
         parts_.counters.recordZero(cmd);
         open_ = true;
@@ -170,6 +172,7 @@ private:
     const BandResources& parts_;
     RenderResult& result_;
     Progress& progress_;
+    vk::raii::CommandPool commandPool_;  // the batch's own, reset whole before each submission
     vk::raii::CommandBuffers commandBuffers_;
     vk::raii::Fence fence_;
     bool open_ = false;

@@ -220,7 +220,8 @@ RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
                          .outputOrigin = glm::uvec2(0, 0),
                          .outputSize = glm::uvec2(0, 0),
                          .rayTreeAddress = glm::uvec2(uint32_t(address), uint32_t(address >> 32))};
-    DeviceActivity activity(*ctx_.events, "tracing the ray tree of pixel " + std::to_string(x) + "," + std::to_string(y));
+    DeviceActivity activity(*ctx_.events,
+                            "tracing the ray tree of pixel " + std::to_string(x) + "," + std::to_string(y));
     ctx_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
         record_.recordUpload(cmd, kHeader);
         cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_.pipeline);

@@ -154,7 +154,8 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     sampleStats_ = MirroredBuffer(ctx, adaptivePixels * 2 * sizeof(glm::uvec4), kAddressedStorage);
     guide_ = MirroredBuffer(ctx, adaptivePixels * sizeof(glm::uvec4), kAddressedStorage);
     if (settings.bandBytes != 0)
-        readback_ = createBuffer(ctx, outputRow * bandRows_, vk::BufferUsageFlagBits::eTransferDst, MemoryUse::Readback);
+        readback_ =
+            createBuffer(ctx, outputRow * bandRows_, vk::BufferUsageFlagBits::eTransferDst, MemoryUse::Readback);
     vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1},
                                           {vk::DescriptorType::eStorageBuffer, kTracerStorageBindings},
                                           {vk::DescriptorType::eCombinedImageSampler, gpu::kMaxTextures},

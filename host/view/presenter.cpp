@@ -134,7 +134,8 @@ Presenter::Presenter(VulkanContext& ctx, GLFWwindow* window, const Buffer& sourc
     displayMemory_ = ctx.memory->allocate(req, MemoryUse::Device, true);
     displayImage_.bindMemory(displayMemory_.memory(), displayMemory_.offset());
 
-    cmd_ = std::move(vk::raii::CommandBuffers(ctx.device, {.commandPool = *ctx.commandPool,
+    commandPool_ = vk::raii::CommandPool(ctx.device, vk::CommandPoolCreateInfo{.queueFamilyIndex = ctx.queueFamily});
+    cmd_ = std::move(vk::raii::CommandBuffers(ctx.device, {.commandPool = *commandPool_,
                                                            .level = vk::CommandBufferLevel::ePrimary,
                                                            .commandBufferCount = 1})
                          .front());
@@ -229,7 +230,7 @@ bool Presenter::beginFrame() {
         createSwapchain();
         return false;
     }
-    cmd_.reset();
+    commandPool_.reset();
     cmd_.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
     frameOpen_ = true;
     windowCaptured_ = false;

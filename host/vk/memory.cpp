@@ -90,10 +90,20 @@ uint32_t MemoryAllocator::memoryType(uint32_t typeBits, MemoryUse use) const {
     vk::MemoryPropertyFlags host = Property::eHostVisible | Property::eHostCoherent;
     vk::MemoryPropertyFlags required, unwanted, wanted;
     switch (use) {
-        case MemoryUse::Device: required = Property::eDeviceLocal, unwanted = Property::eHostVisible; break;
+        case MemoryUse::Device:
+            required = Property::eDeviceLocal;
+            unwanted = Property::eHostVisible;
+            break;
         case MemoryUse::Shared: required = host | Property::eDeviceLocal; break;
-        case MemoryUse::Upload: required = host, unwanted = Property::eDeviceLocal; break;
-        case MemoryUse::Readback: required = host, wanted = Property::eHostCached, unwanted = Property::eDeviceLocal; break;
+        case MemoryUse::Upload:
+            required = host;
+            unwanted = Property::eDeviceLocal;
+            break;
+        case MemoryUse::Readback:
+            required = host;
+            wanted = Property::eHostCached;
+            unwanted = Property::eDeviceLocal;
+            break;
     }
     if (use == MemoryUse::Shared && !options_.unified)
         throw std::logic_error("shared device-local memory asked for on a device without unified memory");
@@ -127,6 +137,9 @@ MemoryBlock& MemoryAllocator::newBlock(const Key& key, vk::DeviceSize size, bool
                                                                                .allocationSize = size,
                                                                                .memoryTypeIndex = key.type});
         ++stats_.allocationCalls;
+        // With pageable device-local memory the priority is the block's
+        // current one, set (and changeable) through vkSetDeviceMemoryPriorityEXT.
+        if (options_.pageable) block->memory.setPriorityEXT(priorityOf(key.use));
         if (mappedUse(key.use)) {
             block->mapped = block->memory.mapMemory(0, VK_WHOLE_SIZE);
             // lavapipe (Mesa 25.0) reports success and maps to MAP_FAILED

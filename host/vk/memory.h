@@ -70,6 +70,9 @@ struct MemoryOptions {
     bool unified = false;
     // VK_EXT_memory_priority is enabled: each block says its priority.
     bool priorities = false;
+    // VK_EXT_pageable_device_local_memory is enabled too: each block's
+    // priority is also set after allocation (vkSetDeviceMemoryPriorityEXT).
+    bool pageable = false;
     vk::DeviceSize preferredBlockSize = vk::DeviceSize(64) << 20;
 };
 
