@@ -18,7 +18,8 @@ namespace {
 namespace fs = std::filesystem;
 
 VulkanContext& discreteContext() {
-    static VulkanContext ctx({.validation = true, .pipelineCacheFolder = fs::path(), .discreteMemory = true});
+    static VulkanContext ctx(
+        {.validation = true, .deviceName = "", .pipelineCacheFolder = fs::path(), .discreteMemory = true});
     return ctx;
 }
 
@@ -49,8 +50,9 @@ TEST(Memory, SmallRangesShareOneBlockAndComeBackToIt) {
     EXPECT_EQ(starts.size(), ranges.size());
     for (const Allocation& a : ranges)
         for (const Allocation& b : ranges)
-            if (&a != &b && a.memory() == b.memory()) EXPECT_GE(std::max(a.offset(), b.offset()) -
-                                                                    std::min(a.offset(), b.offset()), 1000u);
+            if (&a != &b && a.memory() == b.memory()) {
+                EXPECT_GE(std::max(a.offset(), b.offset()) - std::min(a.offset(), b.offset()), 1000u);
+            }
     // Freed ranges are joined again: one range of 64 times the size fits
     // where they were, with no new allocation.
     ranges.clear();

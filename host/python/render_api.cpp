@@ -544,6 +544,17 @@ public:
         return py::module_::import("json").attr("loads")(text);
     }
 
+    // The device's queue submissions and memory allocations so far (tests:
+    // which of them WHITTED_INJECT_FAULT can fail).
+    py::dict deviceEvents() {
+        std::lock_guard lock(mutex_);
+        openDevice();
+        py::dict d;
+        d["submissions"] = ctx_->events->submissions();
+        d["allocations"] = ctx_->events->allocations();
+        return d;
+    }
+
     py::dict device() {
         {
             py::gil_scoped_release release;
@@ -716,6 +727,8 @@ void addRenderApi(py::module_& m) {
              "device: an index (int) or a name substring as whitted.devices() and `whitted devices` list them "
              "(None: the best)")
         .def_property_readonly("device", &PyRenderer::device)
+        .def_property_readonly("_device_events", &PyRenderer::deviceEvents,
+                               "the device's queue submissions and memory allocations so far (for tests)")
         .def("cast_rays", &PyRenderer::castRays, py::arg("scene"), py::arg("origins"), py::arg("directions"),
              py::arg("t_max") = std::numeric_limits<double>::infinity(),
              "What each ray origins[i] + t * directions[i], 0 < t < t_max, hits first in the scene, found on the "

@@ -186,10 +186,11 @@ std::string rayTreeText(const RayTree& tree, const Scene& scene) {
     return out;
 }
 
-RayTreeRecorder::RayTreeRecorder(VulkanContext& ctx)
-    : ctx_(ctx),
-      record_(ctx, sizeof(gpu::RayTreeRecord),
-              vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress) {}
+RayTreeRecorder::RayTreeRecorder(VulkanContext& ctx) : ctx_(ctx) {
+    DeviceActivity activity(*ctx.events, "making the ray tree's record");
+    record_ = MirroredBuffer(ctx, sizeof(gpu::RayTreeRecord),
+                             vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress);
+}
 
 RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
     if (x < 0 || y < 0 || x >= renderer.width() || y >= renderer.height())
