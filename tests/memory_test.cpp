@@ -74,6 +74,26 @@ TEST(Memory, LargeRequestsGetBlocksOfTheirOwnFreedWithThem) {
     EXPECT_EQ(ctx.memory->stats().blocks, before.blocks);
 }
 
+// A render's buffers and images (scene arrays, output, read-back,
+// parameters, the adaptive pass's and the counters, textures, staging) come
+// from a few blocks: one per memory use, not one per buffer.
+TEST(Memory, ARendersBuffersComeFromAFewAllocations) {
+    for (bool discrete : {false, true}) {
+        VulkanContext ctx({.validation = true, .deviceName = "", .pipelineCacheFolder = fs::path(),
+                           .discreteMemory = discrete});
+        Scene scene = loadScene(sourceDir() / "tests" / "gpu_scenes" / "textured.xml");  // textures too
+        RenderSettings settings{.width = 32, .height = 24, .samplesPerPixel = 4, .auxiliary = true,
+                                .antiAliasing = AntiAliasing::Adaptive};
+        RenderResult result = renderOn(ctx, scene, settings);
+        MemoryStats stats = ctx.memory->stats();
+        EXPECT_GT(result.rays.primary, 0u);
+        // One block for each use: device-local buffers, images, upload and
+        // read-back, and with lavapipe's memory the shared one.
+        EXPECT_LE(stats.allocationCalls, discrete ? 4u : 5u) << "discrete " << discrete;
+        EXPECT_GT(ctx.events->allocations(), 3 * stats.allocationCalls) << "discrete " << discrete;
+    }
+}
+
 TEST(Memory, DiscreteMemoryMapsNoDeviceMemory) {
     VulkanContext& ctx = discreteContext();
     EXPECT_FALSE(ctx.memory->unified());
