@@ -61,7 +61,7 @@ AccelerationStructure createStructure(const VulkanContext& ctx, vk::Acceleration
     s.storage = createBuffer(ctx, size,
                              vk::BufferUsageFlagBits::eAccelerationStructureStorageKHR |
                                  vk::BufferUsageFlagBits::eShaderDeviceAddress,
-                             vk::MemoryPropertyFlagBits::eDeviceLocal);
+                             MemoryUse::Device);
     s.handle = vk::raii::AccelerationStructureKHR(
         ctx.device, vk::AccelerationStructureCreateInfoKHR{.buffer = *s.storage.buffer, .size = size, .type = type});
     s.address = ctx.device.getAccelerationStructureAddressKHR({.accelerationStructure = *s.handle});
@@ -91,7 +91,7 @@ AccelerationStructure prepare(const VulkanContext& ctx, Build& build, vk::Accele
     AccelerationStructure s = createStructure(ctx, type, sizes.accelerationStructureSize);
     build.scratch = createBuffer(ctx, sizes.buildScratchSize + scratchAlignment,
                                  vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress,
-                                 vk::MemoryPropertyFlagBits::eDeviceLocal);
+                                 MemoryUse::Device);
     build.info.dstAccelerationStructure = *s.handle;
     build.info.scratchData.deviceAddress = (build.scratch.address + scratchAlignment - 1) / scratchAlignment * scratchAlignment;
     build.range = vk::AccelerationStructureBuildRangeInfoKHR{.primitiveCount = count};

@@ -246,8 +246,7 @@ private:
     std::vector<std::filesystem::path> files_;
 };
 
-int runRenderCommand(const RenderCommandOptions& options) {
-    InterruptScope interrupts;  // Ctrl+C: stop at the next submission, write nothing (main exits 130)
+int renderOrRefuse(const RenderCommandOptions& options) {
     RenderRun run(options);
     if (auto refused = run.load()) return *refused;
     if (auto refused = run.openDevices()) return *refused;
@@ -259,6 +258,16 @@ int runRenderCommand(const RenderCommandOptions& options) {
     }
     if (!options.quiet) run.printSummary(*shown);
     return kExitOk;
+}
+
+int runRenderCommand(const RenderCommandOptions& options) {
+    InterruptScope interrupts;  // Ctrl+C: stop at the next submission, write nothing (main exits 130)
+    try {
+        return renderOrRefuse(options);
+    } catch (const DeviceFailure& e) {  // a lost device, exhausted memory: the files were never completed
+        std::cerr << "whitted: " << options.scene.string() << ": " << e.what() << "; nothing written\n";
+        return kExitFailure;
+    }
 }
 
 // The command line's words, as given; run() checks and maps them.

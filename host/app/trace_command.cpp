@@ -62,15 +62,20 @@ int runTrace(const TraceArguments& args) {
                       << " image\n";
             return kExitBadInput;
         }
-    VulkanContext ctx({.validation = args.validation, .deviceName = args.device});
-    Renderer renderer(ctx, scene, settings);
-    RayTreeRecorder recorder(ctx);
     std::vector<RayTree> trees;
-    for (auto [x, y] : pixels) trees.push_back(recorder.trace(renderer, x, y));
-    if (ctx.validationMessageCount() > 0) {
-        std::cerr << "whitted: the Vulkan validation layer reported " << ctx.validationMessageCount()
-                  << " message(s)\n";
-        return kExitValidation;
+    try {
+        VulkanContext ctx({.validation = args.validation, .deviceName = args.device});
+        Renderer renderer(ctx, scene, settings);
+        RayTreeRecorder recorder(ctx);
+        for (auto [x, y] : pixels) trees.push_back(recorder.trace(renderer, x, y));
+        if (ctx.validationMessageCount() > 0) {
+            std::cerr << "whitted: the Vulkan validation layer reported " << ctx.validationMessageCount()
+                      << " message(s)\n";
+            return kExitValidation;
+        }
+    } catch (const DeviceFailure& e) {
+        std::cerr << "whitted: " << args.scene.string() << ": " << e.what() << "; nothing printed\n";
+        return kExitFailure;
     }
     if (args.json)
         std::cout << (trees.size() == 1 ? rayTreeJson(trees[0], scene) : rayTreesJson(trees, scene));

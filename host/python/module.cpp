@@ -11,6 +11,11 @@ namespace py = pybind11;
 PYBIND11_MODULE(whitted, m) {
     m.doc() = "whitted: a Whitted-style ray tracer on Vulkan (host/python/README.md)";
     m.attr("__version__") = WHITTED_VERSION;
+#ifdef WHITTED_TEST_HOOKS
+    m.attr("_test_hooks") = true;  // a test build: WHITTED_INJECT_FAULT, WHITTED_DISCRETE_MEMORY (host/vk/)
+#else
+    m.attr("_test_hooks") = false;
+#endif
     // Each class before the signatures that name it.
     whitted::python::addSceneErrorApi(m);
     whitted::python::addCameraApi(m);

@@ -328,10 +328,9 @@ RenderSettings renderSettings(const Camera& camera, std::optional<int> width, st
 
 class PyRenderer {
 public:
-    explicit PyRenderer(const std::optional<std::string>& device) {
+    explicit PyRenderer(const std::optional<std::string>& device) : deviceName_(device.value_or("")) {
         py::gil_scoped_release release;
-        ctx_ = std::make_unique<VulkanContext>(
-            ContextOptions{.validation = validationFromEnvironment(), .deviceName = device.value_or("")});
+        openDevice();
     }
 
     // One render (cameras None: the scene's camera) or a batch, one render
@@ -389,41 +388,46 @@ public:
         {
             py::gil_scoped_release release;
             std::lock_guard lock(mutex_);
-            for (size_t i = 0; i < cameras.size(); ++i) {
-                auto result = std::make_shared<Result>();
-                result->settings = s;
-                result->aovs = aovs;
-                result->scenePath = scene.sourcePath;
-                result->warnings = scene.warnings;
-                result->warningDetails = scene.warningDetails;
-                result->device = ctx_->deviceInfo();
-                result->masksScene = masksScene;
-                if (s.ids) result->objectIds = objectIds;
-                uint32_t messagesBefore = ctx_->validationMessageCount();
-                if (i == 0) {
-                    result->uploads = upload(copy, versions, id, s);
-                } else {
-                    result->uploads = {{"renderer", false}, {"geometry", false}, {"bvh", false},
-                                       {"materials", false}, {"lights", false}, {"camera", false},
-                                       {"textures", false}};
+            try {
+                openDevice();
+                for (size_t i = 0; i < cameras.size(); ++i) {
+                    auto result = std::make_shared<Result>();
+                    result->settings = s;
+                    result->aovs = aovs;
+                    result->scenePath = scene.sourcePath;
+                    result->warnings = scene.warnings;
+                    result->warningDetails = scene.warningDetails;
+                    result->device = ctx_->deviceInfo();
+                    result->masksScene = masksScene;
+                    if (s.ids) result->objectIds = objectIds;
+                    uint32_t messagesBefore = ctx_->validationMessageCount();
+                    if (i == 0) {
+                        result->uploads = upload(copy, versions, id, s);
+                    } else {
+                        result->uploads = {{"renderer", false}, {"geometry", false}, {"bvh", false},
+                                           {"materials", false}, {"lights", false}, {"camera", false},
+                                           {"textures", false}};
+                    }
+                    if (batch) {
+                        // The scene's camera version says nothing of a batch's
+                        // cameras: each is sent, and the next render sends the
+                        // scene's camera again.
+                        renderer_->setCamera(cameras[i]);
+                        result->uploads["camera"] = true;
+                        uploaded_.versions.camera = kBatchCamera;
+                    }
+                    result->pixels.layout = renderer_->layout();
+                    PixelSink sink(result->pixels);
+                    result->stats = renderer_->renderTo(sink, between);
+                    result->stats.layout = renderer_->layout();
+                    if (ctx_->validationMessageCount() != messagesBefore)
+                        throw std::runtime_error("the Vulkan validation layer reported " +
+                                                 std::to_string(ctx_->validationMessageCount() - messagesBefore) +
+                                                 " message(s) during this render");
+                    results.push_back(std::move(result));
                 }
-                if (batch) {
-                    // The scene's camera version says nothing of a batch's
-                    // cameras: each is sent, and the next render sends the
-                    // scene's camera again.
-                    renderer_->setCamera(cameras[i]);
-                    result->uploads["camera"] = true;
-                    uploaded_.versions.camera = kBatchCamera;
-                }
-                result->pixels.layout = renderer_->layout();
-                PixelSink sink(result->pixels);
-                result->stats = renderer_->renderTo(sink, between);
-                result->stats.layout = renderer_->layout();
-                if (ctx_->validationMessageCount() != messagesBefore)
-                    throw std::runtime_error("the Vulkan validation layer reported " +
-                                             std::to_string(ctx_->validationMessageCount() - messagesBefore) +
-                                             " message(s) during this render");
-                results.push_back(std::move(result));
+            } catch (const DeviceFailure& e) {
+                deviceFailed(e, scene);
             }
         }
         return results;
@@ -462,18 +466,23 @@ public:
         {
             py::gil_scoped_release release;
             std::lock_guard lock(mutex_);
-            // The settings the scene is held with, or the smallest renderer
-            // (a 1x1 image without auxiliary layers) for a scene it lacks.
-            RenderSettings s = uploaded_.settings;
-            if (!renderer_ || id != uploaded_.sceneId) s = {.width = 1, .height = 1, .auxiliary = false};
-            upload(copy, versions, id, s);
-            if (!caster_) caster_ = std::make_unique<RayCaster>(*ctx_);
-            uint32_t messagesBefore = ctx_->validationMessageCount();
-            hits = caster_->cast(*renderer_, rays);
-            if (ctx_->validationMessageCount() != messagesBefore)
-                throw std::runtime_error("the Vulkan validation layer reported " +
-                                         std::to_string(ctx_->validationMessageCount() - messagesBefore) +
-                                         " message(s) during cast_rays");
+            try {
+                openDevice();
+                // The settings the scene is held with, or the smallest renderer
+                // (a 1x1 image without auxiliary layers) for a scene it lacks.
+                RenderSettings s = uploaded_.settings;
+                if (!renderer_ || id != uploaded_.sceneId) s = {.width = 1, .height = 1, .auxiliary = false};
+                upload(copy, versions, id, s);
+                if (!caster_) caster_ = std::make_unique<RayCaster>(*ctx_);
+                uint32_t messagesBefore = ctx_->validationMessageCount();
+                hits = caster_->cast(*renderer_, rays);
+                if (ctx_->validationMessageCount() != messagesBefore)
+                    throw std::runtime_error("the Vulkan validation layer reported " +
+                                             std::to_string(ctx_->validationMessageCount() - messagesBefore) +
+                                             " message(s) during cast_rays");
+            } catch (const DeviceFailure& e) {
+                deviceFailed(e, copy);
+            }
         }
         // Object indices to the scene's stable ids, as the object_id mask's (stableObjectIds).
         for (uint32_t& o : hits.object)
@@ -518,21 +527,64 @@ public:
         {
             py::gil_scoped_release release;
             std::lock_guard lock(mutex_);
-            uint32_t messagesBefore = ctx_->validationMessageCount();
-            upload(copy, versions, id, s);
-            if (!recorder_) recorder_ = std::make_unique<RayTreeRecorder>(*ctx_);
-            text = rayTreeJson(recorder_->trace(*renderer_, x, y), copy, objectIds);
-            if (ctx_->validationMessageCount() != messagesBefore)
-                throw std::runtime_error("the Vulkan validation layer reported " +
-                                         std::to_string(ctx_->validationMessageCount() - messagesBefore) +
-                                         " message(s) during this trace");
+            try {
+                openDevice();
+                uint32_t messagesBefore = ctx_->validationMessageCount();
+                upload(copy, versions, id, s);
+                if (!recorder_) recorder_ = std::make_unique<RayTreeRecorder>(*ctx_);
+                text = rayTreeJson(recorder_->trace(*renderer_, x, y), copy, objectIds);
+                if (ctx_->validationMessageCount() != messagesBefore)
+                    throw std::runtime_error("the Vulkan validation layer reported " +
+                                             std::to_string(ctx_->validationMessageCount() - messagesBefore) +
+                                             " message(s) during this trace");
+            } catch (const DeviceFailure& e) {
+                deviceFailed(e, copy);
+            }
         }
         return py::module_::import("json").attr("loads")(text);
     }
 
-    py::dict device() const { return deviceDict(ctx_->deviceInfo()); }
+    // The device's queue submissions and memory allocations so far (tests:
+    // which of them WHITTED_INJECT_FAULT can fail).
+    py::dict deviceEvents() {
+        std::lock_guard lock(mutex_);
+        openDevice();
+        py::dict d;
+        d["submissions"] = ctx_->events->submissions();
+        d["allocations"] = ctx_->events->allocations();
+        return d;
+    }
+
+    py::dict device() {
+        {
+            py::gil_scoped_release release;
+            std::lock_guard lock(mutex_);
+            openDevice();
+        }
+        return deviceDict(ctx_->deviceInfo());
+    }
 
 private:
+    // The device, opened again after one was lost.
+    void openDevice() {
+        if (!ctx_)
+            ctx_ = std::make_unique<VulkanContext>(
+                ContextOptions{.validation = validationFromEnvironment(), .deviceName = deviceName_});
+    }
+
+    // A lost device or exhausted memory: what was on the device goes (the
+    // next call uploads the scene again; after a loss, on a device opened
+    // again), and whitted.DeviceError names the scene.
+    [[noreturn]] void deviceFailed(const DeviceFailure& e, const Scene& scene) {
+        caster_.reset();
+        recorder_.reset();
+        renderer_.reset();
+        uploaded_ = {};
+        if (e.lost()) ctx_.reset();
+        std::string name = scene.sourcePath.empty() ? std::string("the scene") : scene.sourcePath.string();
+        throw e.within(name + ": ");
+    }
+
     // Brings the device's scene to `scene`: a new renderer when the settings
     // (or the scene) changed, else only the parts whose counters moved.
     nlohmann::json upload(const Scene& scene, const Versions& versions, uint64_t id, const RenderSettings& s) {
@@ -575,7 +627,8 @@ private:
     // count up from 0), so the scene's camera is sent again.
     static constexpr uint64_t kBatchCamera = ~uint64_t(0);
 
-    std::unique_ptr<VulkanContext> ctx_;
+    std::string deviceName_;  // as given: empty for the best
+    std::unique_ptr<VulkanContext> ctx_;  // none after a lost device, until the next call
     std::unique_ptr<Renderer> renderer_;
     std::unique_ptr<RayCaster> caster_;  // made on the first cast_rays
     std::unique_ptr<RayTreeRecorder> recorder_;  // beside renderer_: trace_pixel
@@ -604,6 +657,10 @@ Tonemap tonemapFrom(const std::string& t) {
 
 void addRenderApi(py::module_& m) {
     m.def("devices", &listDevices, "The Vulkan devices: dicts of index, name, type, driver, ray_query, suitable");
+    // A lost device or exhausted device memory during a render, cast or
+    // trace: the message names the device, the scene and what was being done.
+    // The renderer stays usable: its next call uploads again.
+    py::register_exception<DeviceFailure>(m, "DeviceError", PyExc_RuntimeError);
 
     py::class_<Result, ResultRef>(m, "RenderResult", "What a render gives: the image, its auxiliary images, its record")
         .def_property_readonly(
@@ -670,6 +727,8 @@ void addRenderApi(py::module_& m) {
              "device: an index (int) or a name substring as whitted.devices() and `whitted devices` list them "
              "(None: the best)")
         .def_property_readonly("device", &PyRenderer::device)
+        .def_property_readonly("_device_events", &PyRenderer::deviceEvents,
+                               "the device's queue submissions and memory allocations so far (for tests)")
         .def("cast_rays", &PyRenderer::castRays, py::arg("scene"), py::arg("origins"), py::arg("directions"),
              py::arg("t_max") = std::numeric_limits<double>::infinity(),
              "What each ray origins[i] + t * directions[i], 0 < t < t_max, hits first in the scene, found on the "

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <initializer_list>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -70,20 +71,36 @@ private:
 // Dispatches go to the queue in batches of kDispatchesPerSubmit, each after
 // a barrier (later dispatches may accumulate into the same pixels); the ray
 // counters are read, and the camera rays checked, once per batch, and the
-// progress is reported after it.
+// progress is reported after it. Buffers the host shares with the shader
+// (render/bands.h) travel by the copies MirroredBuffer records, where the
+// device does not work in host memory.
 class Batch {
 public:
+    // A buffer of the host's to read after the next submission.
+    struct Download {
+        const MirroredBuffer& buffer;
+        vk::DeviceSize bytes;
+    };
+
     Batch(const BandResources& parts, RenderResult& result, Progress& progress)
         : parts_(parts), result_(result), progress_(progress),
-          commandBuffers_(parts.ctx.device, {.commandPool = *parts.ctx.commandPool,
+          commandPool_(parts.ctx.device, vk::CommandPoolCreateInfo{.flags = vk::CommandPoolCreateFlagBits::eTransient,
+                                                                   .queueFamilyIndex = parts.ctx.queueFamily}),
+          commandBuffers_(parts.ctx.device, {.commandPool = *commandPool_,
                                              .level = vk::CommandBufferLevel::ePrimary, .commandBufferCount = 1}),
           fence_(parts.ctx.device, vk::FenceCreateInfo{}) {}
+
+    // The host's first `bytes` of `buffer` to the device before the next dispatch.
+    void upload(const MirroredBuffer& buffer, vk::DeviceSize bytes) {
+        begin();
+        buffer.recordUpload(commandBuffers_.front(), bytes);
+    }
 
     // One dispatch; `cameraSamples` = pixels x samples it traces.
     void add(const gpu::TileParams& params, uint32_t groupsX, uint32_t groupsY, uint64_t cameraSamples) {
         vk::raii::CommandBuffer& cmd = commandBuffers_.front();
+        begin();
         if (recorded_ == 0) {
-            begin();
             cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *parts_.pipeline.pipeline);
             cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *parts_.pipeline.layout, 0, parts_.descriptorSet,
                                    nullptr);
@@ -94,11 +111,12 @@ public:
     }
 
     // Submits what is recorded, with `copyBand` bytes of the output buffer
-    // copied to the read-back buffer after it, and waits.
-    void flush(vk::DeviceSize copyBand = 0) {
+    // copied to the read-back buffer and `downloads` to the host after it,
+    // and waits.
+    void flush(vk::DeviceSize copyBand = 0, std::initializer_list<Download> downloads = {}) {
         vk::raii::CommandBuffer& cmd = commandBuffers_.front();
-        if (recorded_ == 0 && copyBand == 0) return;
-        if (recorded_ == 0) begin();
+        if (!open_ && copyBand == 0 && downloads.size() == 0) return;
+        begin();
         if (copyBand > 0) {
             vk::MemoryBarrier toCopy{.srcAccessMask = vk::AccessFlagBits::eShaderWrite,
                                      .dstAccessMask = vk::AccessFlagBits::eTransferRead};
@@ -106,16 +124,18 @@ public:
                                 toCopy, nullptr, nullptr);
             cmd.copyBuffer(*parts_.output.buffer, *parts_.readback.buffer, vk::BufferCopy{0, 0, copyBand});
         }
+        parts_.counters.recordDownload(cmd, sizeof(gpu::RayCounters));
+        for (const Download& d : downloads) d.buffer.recordDownload(cmd, d.bytes);
         vk::MemoryBarrier toHost{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
                                  .dstAccessMask = vk::AccessFlagBits::eHostRead};
         cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
                             vk::PipelineStageFlagBits::eHost, {}, toHost, nullptr, nullptr);
         cmd.end();
+        open_ = false;
         vk::CommandBuffer raw = *cmd;
         auto submitted = std::chrono::steady_clock::now();
-        parts_.ctx.queue.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &raw}, *fence_);
-        vk::Result waited = parts_.ctx.device.waitForFences(*fence_, VK_TRUE, UINT64_MAX);
-        if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
+        parts_.ctx.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &raw}, *fence_);
+        parts_.ctx.waitForFence(*fence_);
         parts_.ctx.device.resetFences(*fence_);
         // Fewer dispatches after a long submission, more again after short
         // ones: lavapipe compiles the pipeline during the first submission.
@@ -126,7 +146,7 @@ public:
             dispatchesPerSubmit_ = std::min(kDispatchesPerSubmit, 2 * dispatchesPerSubmit_);
 
         // One camera ray per sample: fewer means the driver cut a run short.
-        const auto* counters = static_cast<const gpu::RayCounters*>(parts_.counters.mapped);
+        const auto* counters = static_cast<const gpu::RayCounters*>(parts_.counters.host());
         if (counters->primary < expected_) result_.lostSamples += expected_ - counters->primary;
         result_.rays.primary += counters->primary;
         result_.rays.shadow += counters->shadow;
@@ -139,18 +159,23 @@ public:
     }
 
 private:
-    // A fresh command buffer, and ray counters zeroed for it.
+    // A fresh command buffer, unless one is open, and ray counters zeroed for it.
     void begin() {
-        *static_cast<gpu::RayCounters*>(parts_.counters.mapped) = {};
-        commandBuffers_.front().reset();
-        commandBuffers_.front().begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
+        if (open_) return;
+        vk::raii::CommandBuffer& cmd = commandBuffers_.front();
+        commandPool_.reset();  // the whole pool: cheaper than one buffer's reset on some drivers
+        cmd.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
+        parts_.counters.recordZero(cmd);
+        open_ = true;
     }
 
     const BandResources& parts_;
     RenderResult& result_;
     Progress& progress_;
+    vk::raii::CommandPool commandPool_;  // the batch's own, reset whole before each submission
     vk::raii::CommandBuffers commandBuffers_;
     vk::raii::Fence fence_;
+    bool open_ = false;
     size_t recorded_ = 0;
     size_t dispatchesPerSubmit_ = kDispatchesPerSubmit;
     uint64_t expected_ = 0;
@@ -224,16 +249,21 @@ void renderBandAdaptive(const BandResources& parts, Batch& batch, Progress& prog
                                .guideSize = sizeOf(guideRect)};
         batch.add(params, groupsFor(tile.width), groupsFor(tile.height), uint64_t(tile.width) * tile.height);
     });
-    batch.flush();
-    if (levels.empty()) return;
+    size_t guidePixels = size_t(guideRect.width) * guideRect.height;
+    if (levels.empty()) {
+        batch.flush();
+        return;
+    }
+    batch.flush(0, {{parts.guide, guidePixels * sizeof(glm::uvec4)}});
     std::vector<uint32_t> list = pixelsToRefine(
-        std::span(static_cast<const glm::uvec4*>(parts.guide.mapped), size_t(guideRect.width) * guideRect.height),
+        std::span(static_cast<const glm::uvec4*>(parts.guide.host()), guidePixels),
         guideRect, grow(band, border - 1, width, height), settings.aaThreshold);
 
     for (size_t level = 0; level < levels.size() && !list.empty(); ++level) {
         uint32_t n = levels[level];
         progress.stage(double(level + 1) / stages, double(level + 2) / stages, uint64_t(list.size()) * n);
-        std::memcpy(parts.pixelList.mapped, list.data(), list.size() * sizeof(uint32_t));
+        std::memcpy(parts.pixelList.host(), list.data(), list.size() * sizeof(uint32_t));
+        batch.upload(parts.pixelList, list.size() * sizeof(uint32_t));
         // Slices of the list small enough for samplesPerDispatch.
         uint32_t chunk = std::min(n, kMaxSamplesPerInvocation);
         uint32_t slice = uint32_t(std::max<uint64_t>(settings.samplesPerDispatch / chunk, gpu::kListGroupSize));
@@ -253,10 +283,13 @@ void renderBandAdaptive(const BandResources& parts, Batch& batch, Progress& prog
                 batch.add(params, (count + gpu::kListGroupSize - 1) / gpu::kListGroupSize, 1, uint64_t(count) * k);
             }
         }
-        batch.flush();
-        if (level + 1 == levels.size()) break;
+        if (level + 1 == levels.size()) {
+            batch.flush();
+            break;
+        }
+        batch.flush(0, {{parts.sampleStats, 2 * list.size() * sizeof(glm::uvec4)}});
         list = pixelsStillVarying(list,
-                                  std::span(static_cast<const glm::uvec4*>(parts.sampleStats.mapped), 2 * list.size()),
+                                  std::span(static_cast<const glm::uvec4*>(parts.sampleStats.host()), 2 * list.size()),
                                   settings.aaThreshold, grow(band, border - 2 - uint32_t(level), width, height));
     }
 }
@@ -296,6 +329,8 @@ RenderResult renderBands(const BandResources& parts, BandSink& sink, const Progr
         int y = region.y0 + int(index * bandRows);
         PixelRect band{uint32_t(region.x0), uint32_t(y), uint32_t(region.width()),
                        uint32_t(std::min<int>(int(bandRows), region.y1 - y))};
+        DeviceActivity activity(*parts.ctx.events,
+                                "rendering band " + std::to_string(index + 1) + " of " + std::to_string(bandCount));
         if (parts.settings.antiAliasing == AntiAliasing::Adaptive)
             renderBandAdaptive(parts, batch, done, band);
         else

@@ -47,12 +47,14 @@ struct BandResources {
     uint32_t bandRows = 0;  // rows of the region per band
     const Buffer& output;    // one band's sums, every layer (device-local)
     const Buffer& readback;  // host-visible, as large as output
-    const Buffer& counters;  // gpu::RayCounters, host-visible
-    // Adaptive anti-aliasing (host-visible): pixel list, first-pass guide,
-    // sample statistics.
-    const Buffer& pixelList;
-    const Buffer& guide;
-    const Buffer& sampleStats;
+    // What the shader writes or reads at every sample and the host reads or
+    // writes between submissions (device-local, vk/buffer.h MirroredBuffer):
+    // gpu::RayCounters; adaptive anti-aliasing's pixel list, first-pass
+    // guide, sample statistics.
+    const MirroredBuffer& counters;
+    const MirroredBuffer& pixelList;
+    const MirroredBuffer& guide;
+    const MirroredBuffer& sampleStats;
 };
 
 // Renders bands firstBand, firstBand + bandStep, ... of the region into

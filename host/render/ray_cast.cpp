@@ -100,19 +100,18 @@ CastResult RayCaster::cast(const Renderer& renderer, const CastRays& rays) {
         builtFor_ = key;
     }
     size_t bandRays = std::min<size_t>(n, kCastBandRays);
-    if (rays_.size < bandRays * sizeof(gpu::CastRay)) {
+    DeviceActivity activity(*ctx_.events, "casting " + std::to_string(n) + " rays");
+    if (rays_.size() < bandRays * sizeof(gpu::CastRay)) {
         rays_ = {};
         hits_ = {};
         constexpr vk::BufferUsageFlags usage =
             vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress;
-        constexpr vk::MemoryPropertyFlags hostVisible =
-            vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent;
-        rays_ = createBuffer(ctx_, bandRays * sizeof(gpu::CastRay), usage, hostVisible);
-        hits_ = createBuffer(ctx_, bandRays * sizeof(gpu::CastHit), usage, hostVisible);
+        rays_ = MirroredBuffer(ctx_, bandRays * sizeof(gpu::CastRay), usage);
+        hits_ = MirroredBuffer(ctx_, bandRays * sizeof(gpu::CastHit), usage);
     }
 
-    auto* in = static_cast<gpu::CastRay*>(rays_.mapped);
-    const auto* out = static_cast<const gpu::CastHit*>(hits_.mapped);
+    auto* in = static_cast<gpu::CastRay*>(rays_.host());
+    const auto* out = static_cast<const gpu::CastHit*>(hits_.host());
     std::span<const uint32_t> inObject = renderer.primitiveInObject();
     for (size_t first = 0; first < n; first += kCastBandRays) {
         uint32_t count = uint32_t(std::min<size_t>(n - first, kCastBandRays));
@@ -127,14 +126,17 @@ CastResult RayCaster::cast(const Renderer& renderer, const CastRays& rays) {
                      .tMax = float(std::min(tMax * length, kFarthest)),
                      .direction = glm::vec3(d / length)};
         }
-        gpu::CastParams params{.rayAddress = addressWords(rays_.address), .hitAddress = addressWords(hits_.address),
+        gpu::CastParams params{.rayAddress = addressWords(rays_.device().address),
+                               .hitAddress = addressWords(hits_.device().address),
                                .count = count};
         ctx_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+            rays_.recordUpload(cmd, count * sizeof(gpu::CastRay));
             cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_.pipeline);
             cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipeline_.layout, 0, renderer.descriptorSet(),
                                    nullptr);
             cmd.pushConstants<gpu::CastParams>(*pipeline_.layout, vk::ShaderStageFlagBits::eCompute, 0, params);
             cmd.dispatch((count + gpu::kCastGroupSize - 1) / gpu::kCastGroupSize, 1, 1);
+            hits_.recordDownload(cmd, count * sizeof(gpu::CastHit));
             vk::MemoryBarrier toHost{.srcAccessMask = vk::AccessFlagBits::eShaderWrite,
                                      .dstAccessMask = vk::AccessFlagBits::eHostRead};
             cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {},

@@ -69,7 +69,7 @@ public:
 
 private:
     VulkanContext& ctx_;
-    Buffer rays_, hits_;  // host-visible, one band each, made on first use
+    MirroredBuffer rays_, hits_;  // one band each, made on first use
     ComputePipeline pipeline_;
     std::optional<std::pair<TracePath, Specialization>> builtFor_;
 };

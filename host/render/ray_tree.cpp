@@ -186,11 +186,11 @@ std::string rayTreeText(const RayTree& tree, const Scene& scene) {
     return out;
 }
 
-RayTreeRecorder::RayTreeRecorder(VulkanContext& ctx)
-    : ctx_(ctx),
-      record_(createBuffer(ctx, sizeof(gpu::RayTreeRecord),
-                           vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress,
-                           vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent)) {}
+RayTreeRecorder::RayTreeRecorder(VulkanContext& ctx) : ctx_(ctx) {
+    DeviceActivity activity(*ctx.events, "making the ray tree's record");
+    record_ = MirroredBuffer(ctx, sizeof(gpu::RayTreeRecord),
+                             vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eShaderDeviceAddress);
+}
 
 RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
     if (x < 0 || y < 0 || x >= renderer.width() || y >= renderer.height())
@@ -208,7 +208,9 @@ RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
         builtFor_ = key;
     }
 
-    std::memset(record_.mapped, 0, offsetof(gpu::RayTreeRecord, rays));
+    constexpr size_t kHeader = offsetof(gpu::RayTreeRecord, rays);
+    std::memset(record_.host(), 0, kHeader);
+    vk::DeviceAddress address = record_.device().address;
     // One pixel, its centre sample (a pattern of one), nothing written to
     // the renderer's sums (an empty output rectangle).
     gpu::TileParams tile{.tileOrigin = glm::uvec2(uint32_t(x), uint32_t(y)),
@@ -218,18 +220,22 @@ RayTree RayTreeRecorder::trace(const Renderer& renderer, int x, int y) {
                          .patternSize = 1,
                          .outputOrigin = glm::uvec2(0, 0),
                          .outputSize = glm::uvec2(0, 0),
-                         .rayTreeAddress = glm::uvec2(uint32_t(record_.address), uint32_t(record_.address >> 32))};
+                         .rayTreeAddress = glm::uvec2(uint32_t(address), uint32_t(address >> 32))};
+    DeviceActivity activity(*ctx_.events,
+                            "tracing the ray tree of pixel " + std::to_string(x) + "," + std::to_string(y));
     ctx_.submitAndWait([&](const vk::raii::CommandBuffer& cmd) {
+        record_.recordUpload(cmd, kHeader);
         cmd.bindPipeline(vk::PipelineBindPoint::eCompute, *pipeline_.pipeline);
         cmd.bindDescriptorSets(vk::PipelineBindPoint::eCompute, *pipeline_.layout, 0, renderer.descriptorSet(), nullptr);
         recordDispatch(cmd, pipeline_, tile, 1, 1);
+        record_.recordDownload(cmd, sizeof(gpu::RayTreeRecord));
         vk::MemoryBarrier toHost{.srcAccessMask = vk::AccessFlagBits::eShaderWrite,
                                  .dstAccessMask = vk::AccessFlagBits::eHostRead};
         cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eHost, {}, toHost,
                             nullptr, nullptr);
     });
 
-    const auto* record = static_cast<const gpu::RayTreeRecord*>(record_.mapped);
+    const auto* record = static_cast<const gpu::RayTreeRecord*>(record_.host());
     RayTree tree;
     tree.x = x;
     tree.y = y;

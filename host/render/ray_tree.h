@@ -80,7 +80,7 @@ public:
 
 private:
     VulkanContext& ctx_;
-    Buffer record_;  // one gpu::RayTreeRecord, host-visible
+    MirroredBuffer record_;  // one gpu::RayTreeRecord, written by the shader, read by the host
     ComputePipeline pipeline_;
     std::optional<std::pair<TracePath, Specialization>> builtFor_;
 };

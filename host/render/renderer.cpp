@@ -83,9 +83,6 @@ GpuScene packSceneThatFits(const VulkanContext& ctx, const Scene& scene, const R
 // The device address of a buffer as the (low, high) words FrameParams holds.
 glm::uvec2 addressWords(const Buffer& b) { return {uint32_t(b.address), uint32_t(b.address >> 32)}; }
 
-constexpr vk::MemoryPropertyFlags kHostVisible =
-    vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent;
-
 // The region a render covers: settings.region, checked against the image.
 PixelRegion regionFor(const RenderSettings& settings, int width, int height) {
     if (!settings.region) return {0, 0, width, height};
@@ -145,15 +142,20 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     }
 
     size_t bandPixels = size_t(bandRows_ + 2 * border) * (region.width() + 2 * border);
-    params_ = createBuffer(ctx, sizeof(gpu::FrameParams), vk::BufferUsageFlagBits::eUniformBuffer, kHostVisible);
+    // The uniform parameters and the band's read-back are the host's; what
+    // the shader writes or reads at every sample is the device's
+    // (MirroredBuffer: in host memory only where the device works there).
+    DeviceActivity activity(*ctx.events, "making the render's buffers");
+    params_ = createBuffer(ctx, sizeof(gpu::FrameParams), vk::BufferUsageFlagBits::eUniformBuffer, MemoryUse::Upload);
     output_ = createDeviceBuffer(ctx, nullptr, outputRow * bandRows_, kAddressedStorage | vk::BufferUsageFlagBits::eTransferSrc);
-    counters_ = createBuffer(ctx, sizeof(gpu::RayCounters), kStorage, kHostVisible);
+    counters_ = MirroredBuffer(ctx, sizeof(gpu::RayCounters), kStorage);
     size_t adaptivePixels = adaptive ? bandPixels : 1;  // a buffer must not be empty
-    pixelList_ = createBuffer(ctx, adaptivePixels * sizeof(uint32_t), kAddressedStorage, kHostVisible);
-    sampleStats_ = createBuffer(ctx, adaptivePixels * 2 * sizeof(glm::uvec4), kAddressedStorage, kHostVisible);
-    guide_ = createBuffer(ctx, adaptivePixels * sizeof(glm::uvec4), kAddressedStorage, kHostVisible);
+    pixelList_ = MirroredBuffer(ctx, adaptivePixels * sizeof(uint32_t), kAddressedStorage);
+    sampleStats_ = MirroredBuffer(ctx, adaptivePixels * 2 * sizeof(glm::uvec4), kAddressedStorage);
+    guide_ = MirroredBuffer(ctx, adaptivePixels * sizeof(glm::uvec4), kAddressedStorage);
     if (settings.bandBytes != 0)
-        readback_ = createBuffer(ctx, outputRow * bandRows_, vk::BufferUsageFlagBits::eTransferDst, kHostVisible);
+        readback_ =
+            createBuffer(ctx, outputRow * bandRows_, vk::BufferUsageFlagBits::eTransferDst, MemoryUse::Readback);
     vk::DescriptorPoolSize poolSizes[] = {{vk::DescriptorType::eUniformBuffer, 1},
                                           {vk::DescriptorType::eStorageBuffer, kTracerStorageBindings},
                                           {vk::DescriptorType::eCombinedImageSampler, gpu::kMaxTextures},
@@ -194,6 +196,7 @@ void Renderer::buildPipeline(std::optional<Specialization> constants) {
 // queries, the top-level acceleration structure.
 void Renderer::uploadScene() {
     auto start = Clock::now();
+    DeviceActivity activity(*ctx_.events, "uploading the scene");
     // An array the size of the one before it, in host-visible memory (a
     // device that works in host memory, when an object moved), is written
     // in place: a new buffer's pages cost more to touch than to copy into.
@@ -207,14 +210,14 @@ void Renderer::uploadScene() {
         try {
             target = createDeviceBuffer(ctx_, array.data(), bytes,
                                         vk::BufferUsageFlagBits::eShaderDeviceAddress | kStorage);
-        } catch (const std::runtime_error& e) {
-            throw std::runtime_error("uploading the scene's " + std::to_string(array.size()) + " " + what + " (" +
-                                     std::to_string(bytes) + " bytes; " + std::to_string(deviceBytes_ >> 20) +
-                                     " MiB already on the device): " + e.what());
+        } catch (const DeviceFailure& e) {
+            throw e.within("uploading the scene's " + std::to_string(array.size()) + " " + what + " (" +
+                           std::to_string(bytes) + " bytes; " + std::to_string(deviceBytes_ >> 20) +
+                           " MiB already on the device): ");
         }
     };
-    deviceBytes_ = params_.size + output_.size + counters_.size + pixelList_.size + guide_.size + sampleStats_.size +
-                   readback_.size;
+    deviceBytes_ = params_.size + output_.size + counters_.size() + pixelList_.size() + guide_.size() +
+                   sampleStats_.size() + readback_.size;
     accelerationStructures_ = {};
     if (trace_ == TracePath::RayQuery) {
         // The device's structures over the bounded primitives replace the
@@ -246,9 +249,9 @@ void Renderer::uploadScene() {
     scene_.params.lightAddress = l;
     scene_.params.csgNodeAddress = addressWords(csgNodes_);
     scene_.params.outputAddress = addressWords(output_);
-    scene_.params.pixelListAddress = addressWords(pixelList_);
-    scene_.params.guideAddress = addressWords(guide_);
-    scene_.params.sampleStatsAddress = addressWords(sampleStats_);
+    scene_.params.pixelListAddress = addressWords(pixelList_.device());
+    scene_.params.guideAddress = addressWords(guide_.device());
+    scene_.params.sampleStatsAddress = addressWords(sampleStats_.device());
     // Textures and the per-primitive surface attributes (UVs of textured
     // meshes; address 0 when no mesh needs them).
     texturesUploaded_ = !texturesMade_ || scene_.textures != uploadedTextures_;
@@ -276,8 +279,9 @@ void Renderer::uploadScene() {
 // and, for ray queries, the top-level acceleration structure.
 void Renderer::writeDescriptors() {
     // In the order of kTracerBindings.
-    const Buffer* buffers[] = {&params_, &output_, &counters_, &pixelList_, &guide_, &sampleStats_, &bvhNodes_,
-                               &primitives_, &materials_, &lights_};
+    const Buffer* buffers[] = {&params_,      &output_,     &counters_.device(), &pixelList_.device(),
+                               &guide_.device(), &sampleStats_.device(), &bvhNodes_, &primitives_,
+                               &materials_,   &lights_};
     // Arrays beyond one storage buffer range are read through their address
     // only (render/device_policy.h); the descriptor then names the first range.
     vk::DeviceSize maxRange = ctx_.physicalDevice.getProperties().limits.maxStorageBufferRange;

@@ -74,7 +74,14 @@ public:
     // count (the w of the colour layer), so a partly finished pass reads right.
     RenderResult readMeans() const;
     const Buffer& outputBuffer() const { return output_; }
-    gpu::RayCounters& counters() const { return *static_cast<gpu::RayCounters*>(counters_.mapped); }
+    // The ray counters as the host sees them: zeroed on both sides by
+    // recordCountersZero, and brought to the host by recordCountersDownload
+    // once the submission is done (vk/buffer.h MirroredBuffer).
+    gpu::RayCounters& counters() const { return *static_cast<gpu::RayCounters*>(counters_.host()); }
+    void recordCountersZero(const vk::raii::CommandBuffer& cmd) const { counters_.recordZero(cmd); }
+    void recordCountersDownload(const vk::raii::CommandBuffer& cmd) const {
+        counters_.recordDownload(cmd, sizeof(gpu::RayCounters));
+    }
     int width() const { return scene_.width; }
     int height() const { return scene_.height; }
     uint32_t layerCount() const { return layerCount_; }
@@ -110,7 +117,8 @@ private:
     uint32_t layerCount_;
     ImageLayout layout_;
     uint32_t bandRows_ = 0;  // rows of the region per band
-    Buffer params_, primitives_, materials_, lights_, output_, counters_, bvhNodes_;
+    Buffer params_, primitives_, materials_, lights_, output_, bvhNodes_;
+    MirroredBuffer counters_;  // gpu::RayCounters
     Buffer csgNodes_;  // the csg objects' programs (FrameParams.csgNodeAddress)
     Buffer attributes_;     // gpu::SurfaceAttributes per primitive, when a textured mesh needs them
     TextureSet textures_;   // the kBindingTextures array
@@ -119,9 +127,10 @@ private:
     std::vector<std::shared_ptr<const TextureData>> uploadedTextures_;
     bool texturesMade_ = false, texturesUploaded_ = false;
     // Adaptive anti-aliasing: pixel list, first-pass guide, sample
-    // statistics (host-visible: the host reads and writes them between
-    // passes); and the band's read-back staging buffer.
-    Buffer pixelList_, guide_, sampleStats_, readback_;
+    // statistics (the host reads and writes them between passes); and the
+    // band's read-back staging buffer.
+    MirroredBuffer pixelList_, guide_, sampleStats_;
+    Buffer readback_;
     vk::raii::DescriptorPool descriptorPool_{nullptr};
     vk::raii::DescriptorSet descriptorSet_{nullptr};
     double uploadSeconds_ = 0;

@@ -41,18 +41,15 @@ TextureSet::Image TextureSet::upload(VulkanContext& ctx, const TextureData& text
                             .usage = vk::ImageUsageFlagBits::eSampled | vk::ImageUsageFlagBits::eTransferDst,
                             .initialLayout = vk::ImageLayout::eUndefined});
     vk::MemoryRequirements req = img.image.getMemoryRequirements();
-    uint32_t type =
-        findMemoryType(ctx.physicalDevice, req.memoryTypeBits, vk::MemoryPropertyFlagBits::eDeviceLocal, {});
-    img.memory =
-        vk::raii::DeviceMemory(ctx.device, vk::MemoryAllocateInfo{.allocationSize = req.size, .memoryTypeIndex = type});
-    img.image.bindMemory(*img.memory, 0);
+    DeviceActivity activity(*ctx.events, "uploading texture " + texture.name);
+    img.memory = ctx.memory->allocate(req, MemoryUse::Device, true);
+    img.image.bindMemory(img.memory.memory(), img.memory.offset());
     bytes_ += req.size;
 
     // Every level through one staging buffer, copied in one submission.
     vk::DeviceSize total = 0;
     for (const TextureLevel& level : texture.levels) total += level.rgba.size() * sizeof(uint16_t);
-    Buffer staging = createBuffer(ctx, total, vk::BufferUsageFlagBits::eTransferSrc,
-                                  vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent);
+    Buffer staging = createBuffer(ctx, total, vk::BufferUsageFlagBits::eTransferSrc, MemoryUse::Upload);
     std::vector<vk::BufferImageCopy> copies;
     vk::DeviceSize offset = 0;
     for (uint32_t i = 0; i < levels; ++i) {

@@ -11,6 +11,7 @@
 
 #include "io/texture.h"
 #include "vk/context.h"
+#include "vk/memory.h"
 
 namespace whitted {
 
@@ -24,9 +25,9 @@ public:
     vk::DeviceSize bytes() const { return bytes_; }
 
 private:
-    struct Image {
+    struct Image {  // destroyed view, image, then memory
+        Allocation memory;
         vk::raii::Image image{nullptr};
-        vk::raii::DeviceMemory memory{nullptr};
         vk::raii::ImageView view{nullptr};
     };
     Image upload(VulkanContext& ctx, const TextureData& texture);

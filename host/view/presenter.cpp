@@ -87,10 +87,10 @@ Presenter::Presenter(VulkanContext& ctx, GLFWwindow* window, const Buffer& sourc
     // The display pass.
     const vk::DescriptorType bindings[] = {vk::DescriptorType::eStorageBuffer, vk::DescriptorType::eStorageBuffer};
     pipeline_ = createComputePipeline(ctx, kDisplayCompSpv, bindings, sizeof(gpu::DisplayParams));
-    auto hostVisible = vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent;
     vk::DeviceSize bytes = vk::DeviceSize(width_) * height_ * 4;
-    displayBuffer_ = createBuffer(
-        ctx, bytes, vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferSrc, hostVisible);
+    displayBuffer_ = createBuffer(ctx, bytes,
+                                  vk::BufferUsageFlagBits::eStorageBuffer | vk::BufferUsageFlagBits::eTransferSrc,
+                                  MemoryUse::Readback);
     std::memset(displayBuffer_.mapped, 0, bytes);
     vk::DescriptorPoolSize poolSize{vk::DescriptorType::eStorageBuffer, 2};
     descriptorPool_ = vk::raii::DescriptorPool(
@@ -131,15 +131,11 @@ Presenter::Presenter(VulkanContext& ctx, GLFWwindow* window, const Buffer& sourc
                                                                     .sharingMode = vk::SharingMode::eExclusive,
                                                                     .initialLayout = vk::ImageLayout::eUndefined});
     auto req = displayImage_.getMemoryRequirements();
-    displayMemory_ = vk::raii::DeviceMemory(
-        ctx.device,
-        vk::MemoryAllocateInfo{.allocationSize = req.size,
-                               .memoryTypeIndex = findMemoryType(ctx.physicalDevice, req.memoryTypeBits,
-                                                                 vk::MemoryPropertyFlagBits::eDeviceLocal,
-                                                                 vk::MemoryPropertyFlagBits::eDeviceLocal)});
-    displayImage_.bindMemory(*displayMemory_, 0);
+    displayMemory_ = ctx.memory->allocate(req, MemoryUse::Device, true);
+    displayImage_.bindMemory(displayMemory_.memory(), displayMemory_.offset());
 
-    cmd_ = std::move(vk::raii::CommandBuffers(ctx.device, {.commandPool = *ctx.commandPool,
+    commandPool_ = vk::raii::CommandPool(ctx.device, vk::CommandPoolCreateInfo{.queueFamilyIndex = ctx.queueFamily});
+    cmd_ = std::move(vk::raii::CommandBuffers(ctx.device, {.commandPool = *commandPool_,
                                                            .level = vk::CommandBufferLevel::ePrimary,
                                                            .commandBufferCount = 1})
                          .front());
@@ -216,7 +212,7 @@ void Presenter::createSwapchain() {
     }
     windowBuffer_ =
         createBuffer(ctx_, vk::DeviceSize(extent_.width) * extent_.height * 4, vk::BufferUsageFlagBits::eTransferDst,
-                     vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent);
+                     MemoryUse::Readback);
 }
 
 bool Presenter::beginFrame() {
@@ -234,7 +230,7 @@ bool Presenter::beginFrame() {
         createSwapchain();
         return false;
     }
-    cmd_.reset();
+    commandPool_.reset();
     cmd_.begin({.flags = vk::CommandBufferUsageFlagBits::eOneTimeSubmit});
     frameOpen_ = true;
     windowCaptured_ = false;
@@ -316,14 +312,14 @@ double Presenter::endFrame() {
     vk::Semaphore acquired = *imageAcquired_;
     vk::Semaphore done = *renderDone_[imageIndex_];
     auto start = std::chrono::steady_clock::now();
-    ctx_.queue.submit(vk::SubmitInfo{.waitSemaphoreCount = 1,
-                                     .pWaitSemaphores = &acquired,
-                                     .pWaitDstStageMask = &waitStage,
-                                     .commandBufferCount = 1,
-                                     .pCommandBuffers = &raw,
-                                     .signalSemaphoreCount = 1,
-                                     .pSignalSemaphores = &done},
-                      *frameDone_);
+    ctx_.submit(vk::SubmitInfo{.waitSemaphoreCount = 1,
+                               .pWaitSemaphores = &acquired,
+                               .pWaitDstStageMask = &waitStage,
+                               .commandBufferCount = 1,
+                               .pCommandBuffers = &raw,
+                               .signalSemaphoreCount = 1,
+                               .pSignalSemaphores = &done},
+                *frameDone_);
     vk::SwapchainKHR swapchain = *swapchain_;
     vk::Result presented;
     try {
@@ -335,8 +331,7 @@ double Presenter::endFrame() {
     } catch (const vk::OutOfDateKHRError&) {
         presented = vk::Result::eErrorOutOfDateKHR;
     }
-    vk::Result waited = ctx_.device.waitForFences(*frameDone_, VK_TRUE, UINT64_MAX);
-    if (waited != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(waited));
+    ctx_.waitForFence(*frameDone_);
     double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ctx_.device.resetFences(*frameDone_);
     if (windowCaptured_) {

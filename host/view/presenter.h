@@ -84,9 +84,10 @@ private:
     Buffer windowBuffer_;   // host-visible copy of the swapchain image
     Rgba8Image windowCapture_;
     bool windowCaptured_ = false;
+    Allocation displayMemory_;  // declared first: outlives the image bound to it
     vk::raii::Image displayImage_{nullptr};
-    vk::raii::DeviceMemory displayMemory_{nullptr};
 
+    vk::raii::CommandPool commandPool_{nullptr};  // the frame's own: reset whole each frame
     vk::raii::CommandBuffer cmd_{nullptr};
     vk::raii::Semaphore imageAcquired_{nullptr};
     vk::raii::Fence frameDone_{nullptr};

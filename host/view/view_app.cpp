@@ -480,7 +480,11 @@ ViewOutcome ViewApp::run() {
         uint64_t recorded = 0;
         auto traceStart = Clock::now();
         if (!progressive_.done() || progressive_.needsClear())
-            ctx_.submitAndWait([&](vk::raii::CommandBuffer& cmd) { recorded = progressive_.record(renderer_, cmd); });
+            ctx_.submitAndWait([&](vk::raii::CommandBuffer& cmd) {
+                renderer_.recordCountersZero(cmd);
+                recorded = progressive_.record(renderer_, cmd);
+                renderer_.recordCountersDownload(cmd);
+            });
         double traceSeconds = std::chrono::duration<double>(Clock::now() - traceStart).count();
         double target = options_.targetFrameMs / 1000.0;
         progressive_.setTargetSeconds(std::max(target - overheadSeconds, 0.25 * target));

@@ -1,62 +1,20 @@
 #include "vk/buffer.h"
 
 #include <algorithm>
-#include <cstdint>
 #include <cstring>
-#include <stdexcept>
-#include <string>
 
 namespace whitted {
 
-// First memory type allowed by `typeBits` that has all of `required`,
-// preferring one that also has `preferred`.
-uint32_t findMemoryType(const vk::raii::PhysicalDevice& physical, uint32_t typeBits,
-                        vk::MemoryPropertyFlags required, vk::MemoryPropertyFlags preferred) {
-    auto props = physical.getMemoryProperties();
-    std::optional<uint32_t> fallback;
-    for (uint32_t i = 0; i < props.memoryTypeCount; ++i) {
-        if (!(typeBits & (1u << i))) continue;
-        auto flags = props.memoryTypes[i].propertyFlags;
-        if ((flags & required) != required) continue;
-        if ((flags & preferred) == preferred) return i;
-        if (!fallback) fallback = i;
-    }
-    if (!fallback) throw std::runtime_error("no Vulkan memory type fits the buffer (" + vk::to_string(required) + ")");
-    return *fallback;
-}
-
-Buffer createBuffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage,
-                    vk::MemoryPropertyFlags properties) {
+Buffer createBuffer(const VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage, MemoryUse use) {
     Buffer b;
     b.size = std::max<vk::DeviceSize>(size, 16);  // zero-sized buffers are invalid
-    try {
-        b.buffer = vk::raii::Buffer(ctx.device, vk::BufferCreateInfo{.size = b.size, .usage = usage,
-                                                                      .sharingMode = vk::SharingMode::eExclusive});
-        auto req = b.buffer.getMemoryRequirements();
-        vk::MemoryPropertyFlags preferred = properties;
-        if (properties & vk::MemoryPropertyFlagBits::eHostVisible) preferred |= vk::MemoryPropertyFlagBits::eHostCached;
-        uint32_t type = findMemoryType(ctx.physicalDevice, req.memoryTypeBits, properties, preferred);
-        bool addressed = bool(usage & vk::BufferUsageFlagBits::eShaderDeviceAddress);
-        vk::MemoryAllocateFlagsInfo flags{.flags = vk::MemoryAllocateFlagBits::eDeviceAddress};
-        b.memory = vk::raii::DeviceMemory(ctx.device, vk::MemoryAllocateInfo{.pNext = addressed ? &flags : nullptr,
-                                                                             .allocationSize = req.size,
-                                                                             .memoryTypeIndex = type});
-        b.buffer.bindMemory(*b.memory, 0);
-        if (properties & vk::MemoryPropertyFlagBits::eHostVisible) {
-            b.mapped = b.memory.mapMemory(0, VK_WHOLE_SIZE);
-            // lavapipe (Mesa 25.0) reports success and maps to MAP_FAILED
-            // when its mmap of the allocation fails (seen under ulimit -v).
-            if (!b.mapped || b.mapped == reinterpret_cast<void*>(intptr_t(-1)))
-                throw vk::OutOfHostMemoryError("vkMapMemory returned no mapping");
-        }
-        if (addressed) b.address = ctx.device.getBufferAddress({.buffer = *b.buffer});
-    } catch (const vk::OutOfDeviceMemoryError& e) {
-        throw std::runtime_error("out of device memory for a buffer of " + std::to_string(b.size) + " bytes (" +
-                                 std::to_string(b.size >> 20) + " MiB): " + e.what());
-    } catch (const vk::OutOfHostMemoryError& e) {
-        throw std::runtime_error("out of host memory for a buffer of " + std::to_string(b.size) + " bytes (" +
-                                 std::to_string(b.size >> 20) + " MiB): " + e.what());
-    }
+    b.buffer = vk::raii::Buffer(ctx.device, vk::BufferCreateInfo{.size = b.size, .usage = usage,
+                                                                  .sharingMode = vk::SharingMode::eExclusive});
+    b.allocation = ctx.memory->allocate(b.buffer.getMemoryRequirements(), use);
+    b.buffer.bindMemory(b.allocation.memory(), b.allocation.offset());
+    b.mapped = b.allocation.mapped();
+    if (usage & vk::BufferUsageFlagBits::eShaderDeviceAddress)
+        b.address = ctx.device.getBufferAddress({.buffer = *b.buffer});
     return b;
 }
 
@@ -64,23 +22,14 @@ Buffer createDeviceBuffer(VulkanContext& ctx, const void* data, vk::DeviceSize s
     // A device that works in host memory (lavapipe, an integrated GPU) is
     // written directly: a staging copy would hold the data twice (640 MB more
     // for a 10M-triangle mesh).
-    auto shared = vk::MemoryPropertyFlagBits::eDeviceLocal | vk::MemoryPropertyFlagBits::eHostVisible |
-                  vk::MemoryPropertyFlagBits::eHostCoherent;
-    vk::PhysicalDeviceType type = ctx.physicalDevice.getProperties().deviceType;
-    auto memoryTypes = ctx.physicalDevice.getMemoryProperties().memoryTypes;
-    bool unified = (type == vk::PhysicalDeviceType::eCpu || type == vk::PhysicalDeviceType::eIntegratedGpu) &&
-                   std::any_of(memoryTypes.begin(), memoryTypes.end(),
-                               [&](const vk::MemoryType& t) { return (t.propertyFlags & shared) == shared; });
-    if (data && size > 0 && unified) {
-        Buffer direct = createBuffer(ctx, size, usage, shared);
+    if (data && size > 0 && ctx.memory->unified()) {
+        Buffer direct = createBuffer(ctx, size, usage, MemoryUse::Shared);
         std::memcpy(direct.mapped, data, size);
         return direct;
     }
-    Buffer device = createBuffer(ctx, size, usage | vk::BufferUsageFlagBits::eTransferDst,
-                                 vk::MemoryPropertyFlagBits::eDeviceLocal);
+    Buffer device = createBuffer(ctx, size, usage | vk::BufferUsageFlagBits::eTransferDst, MemoryUse::Device);
     if (data && size > 0) {
-        Buffer staging = createBuffer(ctx, size, vk::BufferUsageFlagBits::eTransferSrc,
-                                      vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent);
+        Buffer staging = createBuffer(ctx, size, vk::BufferUsageFlagBits::eTransferSrc, MemoryUse::Upload);
         std::memcpy(staging.mapped, data, size);
         ctx.submitAndWait([&](vk::raii::CommandBuffer& cmd) {
             cmd.copyBuffer(*staging.buffer, *device.buffer, vk::BufferCopy{0, 0, size});
@@ -92,8 +41,7 @@ Buffer createDeviceBuffer(VulkanContext& ctx, const void* data, vk::DeviceSize s
 }
 
 void readBuffer(VulkanContext& ctx, const Buffer& source, void* destination, vk::DeviceSize size) {
-    Buffer staging = createBuffer(ctx, size, vk::BufferUsageFlagBits::eTransferDst,
-                                  vk::MemoryPropertyFlagBits::eHostVisible | vk::MemoryPropertyFlagBits::eHostCoherent);
+    Buffer staging = createBuffer(ctx, size, vk::BufferUsageFlagBits::eTransferDst, MemoryUse::Readback);
     ctx.submitAndWait([&](vk::raii::CommandBuffer& cmd) {
         // Earlier shader or transfer writes to the source come first.
         vk::MemoryBarrier fromWriters{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
@@ -108,6 +56,59 @@ void readBuffer(VulkanContext& ctx, const Buffer& source, void* destination, vk:
                             nullptr, nullptr);
     });
     std::memcpy(destination, staging.mapped, size);
+}
+
+MirroredBuffer::MirroredBuffer(VulkanContext& ctx, vk::DeviceSize size, vk::BufferUsageFlags usage) {
+    if (ctx.memory->unified()) {
+        device_ = createBuffer(ctx, size, usage, MemoryUse::Shared);
+        std::memset(device_.mapped, 0, device_.size);
+        return;
+    }
+    using Usage = vk::BufferUsageFlagBits;
+    device_ = createBuffer(ctx, size, usage | Usage::eTransferSrc | Usage::eTransferDst, MemoryUse::Device);
+    // One twin for both directions: upload memory is host-coherent, and
+    // the host reads these small buffers once a submission.
+    host_ = createBuffer(ctx, size, Usage::eTransferSrc | Usage::eTransferDst, MemoryUse::Readback);
+    std::memset(host_.mapped, 0, host_.size);
+    ctx.submitAndWait([&](vk::raii::CommandBuffer& cmd) { cmd.fillBuffer(*device_.buffer, 0, VK_WHOLE_SIZE, 0); });
+}
+
+void MirroredBuffer::recordUpload(const vk::raii::CommandBuffer& cmd, vk::DeviceSize bytes) const {
+    if (!staged() || bytes == 0) return;
+    // The host's writes before the submission are visible to transfers; the
+    // shader's earlier reads of the old contents come first.
+    vk::MemoryBarrier before{.srcAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite,
+                             .dstAccessMask = vk::AccessFlagBits::eTransferWrite};
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eTransfer, {}, before,
+                        nullptr, nullptr);
+    cmd.copyBuffer(*host_.buffer, *device_.buffer, vk::BufferCopy{0, 0, std::min(bytes, size())});
+    vk::MemoryBarrier after{.srcAccessMask = vk::AccessFlagBits::eTransferWrite,
+                            .dstAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite};
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eComputeShader, {}, after,
+                        nullptr, nullptr);
+}
+
+void MirroredBuffer::recordDownload(const vk::raii::CommandBuffer& cmd, vk::DeviceSize bytes) const {
+    if (!staged() || bytes == 0) return;
+    vk::MemoryBarrier after{.srcAccessMask = vk::AccessFlagBits::eShaderWrite | vk::AccessFlagBits::eTransferWrite,
+                            .dstAccessMask = vk::AccessFlagBits::eTransferRead};
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader | vk::PipelineStageFlagBits::eTransfer,
+                        vk::PipelineStageFlagBits::eTransfer, {}, after, nullptr, nullptr);
+    cmd.copyBuffer(*device_.buffer, *host_.buffer, vk::BufferCopy{0, 0, std::min(bytes, size())});
+    vk::MemoryBarrier toHost{.srcAccessMask = vk::AccessFlagBits::eTransferWrite,
+                             .dstAccessMask = vk::AccessFlagBits::eHostRead};
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eTransfer, vk::PipelineStageFlagBits::eHost, {}, toHost, nullptr,
+                        nullptr);
+}
+
+void MirroredBuffer::recordZero(const vk::raii::CommandBuffer& cmd) const {
+    std::memset(host(), 0, size());
+    if (!staged()) return;
+    vk::MemoryBarrier before{.srcAccessMask = vk::AccessFlagBits::eShaderRead | vk::AccessFlagBits::eShaderWrite,
+                             .dstAccessMask = vk::AccessFlagBits::eTransferWrite};
+    cmd.pipelineBarrier(vk::PipelineStageFlagBits::eComputeShader, vk::PipelineStageFlagBits::eTransfer, {}, before,
+                        nullptr, nullptr);
+    cmd.fillBuffer(*device_.buffer, 0, VK_WHOLE_SIZE, 0);
 }
 
 }  // namespace whitted

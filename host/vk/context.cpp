@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iterator>
+#include <string_view>
+#include <utility>
 #include <stdexcept>
 
 namespace whitted {
@@ -12,6 +14,15 @@ namespace whitted {
 bool validationFromEnvironment() {
     const char* v = std::getenv("WHITTED_VALIDATION");
     return v && *v && std::string(v) != "0";
+}
+
+bool discreteMemoryFromEnvironment() {
+#ifdef WHITTED_TEST_HOOKS
+    const char* v = std::getenv("WHITTED_DISCRETE_MEMORY");
+    return v && *v && std::string(v) != "0";
+#else
+    return false;
+#endif
 }
 namespace {
 
@@ -38,11 +49,18 @@ int deviceTypeRank(vk::PhysicalDeviceType type) {
     }
 }
 
+// A queue family that computes: one that does not also draw where the
+// device has it (a GPU's asynchronous compute queue, where acceleration
+// structures are best built and dispatches never wait behind drawing).
 std::optional<uint32_t> findComputeQueueFamily(const vk::raii::PhysicalDevice& device) {
     auto families = device.getQueueFamilyProperties();
-    for (uint32_t i = 0; i < families.size(); ++i)
-        if (families[i].queueFlags & vk::QueueFlagBits::eCompute) return i;
-    return std::nullopt;
+    std::optional<uint32_t> universal;
+    for (uint32_t i = 0; i < families.size(); ++i) {
+        if (!(families[i].queueFlags & vk::QueueFlagBits::eCompute)) continue;
+        if (!(families[i].queueFlags & vk::QueueFlagBits::eGraphics)) return i;
+        if (!universal) universal = i;
+    }
+    return universal;
 }
 
 // The extensions tracing through ray queries needs (VK_KHR_acceleration_structure
@@ -52,13 +70,30 @@ constexpr const char* kRayQueryExtensions[] = {VK_KHR_ACCELERATION_STRUCTURE_EXT
                                                VK_KHR_RAY_QUERY_EXTENSION_NAME,
                                                VK_KHR_DEFERRED_HOST_OPERATIONS_EXTENSION_NAME};
 
+bool hasExtension(const std::vector<vk::ExtensionProperties>& extensions, std::string_view name) {
+    return std::any_of(extensions.begin(), extensions.end(), [&](const vk::ExtensionProperties& e) {
+        return std::string_view(e.extensionName.data()) == name;
+    });
+}
+
+// A device that works in host memory (lavapipe, an integrated GPU): a
+// memory type both device-local and host-visible holds what the shader
+// and the host share, with no staging copy.
+bool hasUnifiedMemory(const vk::raii::PhysicalDevice& device) {
+    vk::PhysicalDeviceType type = device.getProperties().deviceType;
+    if (type != vk::PhysicalDeviceType::eCpu && type != vk::PhysicalDeviceType::eIntegratedGpu) return false;
+    auto shared = vk::MemoryPropertyFlagBits::eDeviceLocal | vk::MemoryPropertyFlagBits::eHostVisible |
+                  vk::MemoryPropertyFlagBits::eHostCoherent;
+    auto memory = device.getMemoryProperties();
+    for (uint32_t i = 0; i < memory.memoryTypeCount; ++i)
+        if ((memory.memoryTypes[i].propertyFlags & shared) == shared) return true;
+    return false;
+}
+
 bool hasRayQuery(const vk::raii::PhysicalDevice& device) {
     auto extensions = device.enumerateDeviceExtensionProperties();
     for (const char* wanted : kRayQueryExtensions)
-        if (std::none_of(extensions.begin(), extensions.end(), [&](const vk::ExtensionProperties& e) {
-                return std::string_view(e.extensionName.data()) == wanted;
-            }))
-            return false;
+        if (!hasExtension(extensions, wanted)) return false;
     auto features = device.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceAccelerationStructureFeaturesKHR,
                                         vk::PhysicalDeviceRayQueryFeaturesKHR>();
     return features.get<vk::PhysicalDeviceAccelerationStructureFeaturesKHR>().accelerationStructure &&
@@ -140,6 +175,61 @@ vk::raii::Instance createInstance(const vk::raii::Context& context, bool validat
                                            .ppEnabledExtensionNames = extensions.data()});
 }
 
+// Which memory extensions the device was made with (vk/memory.h).
+struct MemoryExtensions {
+    bool priorities = false, pageable = false;
+};
+
+// The logical device: one queue of `family`, buffer device addresses, the
+// texture array's non-uniform indexing where offered, ray queries when
+// `rayQuery`, memory priorities where offered (`enabled` says).
+vk::raii::Device createDevice(const vk::raii::PhysicalDevice& physical, uint32_t family,
+                              std::vector<const char*> deviceExtensions, bool rayQuery, MemoryExtensions& enabled) {
+    float priority = 1.0f;
+    vk::DeviceQueueCreateInfo queueInfo{.queueFamilyIndex = family, .queueCount = 1, .pQueuePriorities = &priority};
+    vk::PhysicalDeviceVulkan12Features features12{.bufferDeviceAddress = VK_TRUE};  // scene arrays (shaders/scene.glsl)
+    // The texture array is indexed by a material's slot, which varies across
+    // an invocation group (shaders/texture.glsl, nonuniformEXT).
+    features12.shaderSampledImageArrayNonUniformIndexing =
+        physical.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceVulkan12Features>()
+            .get<vk::PhysicalDeviceVulkan12Features>()
+            .shaderSampledImageArrayNonUniformIndexing;
+    void* chain = &features12;
+    vk::PhysicalDeviceRayQueryFeaturesKHR rayQueryFeatures{.rayQuery = VK_TRUE};
+    vk::PhysicalDeviceAccelerationStructureFeaturesKHR accelerationFeatures{.accelerationStructure = VK_TRUE};
+    if (rayQuery) {
+        deviceExtensions.insert(deviceExtensions.end(), std::begin(kRayQueryExtensions), std::end(kRayQueryExtensions));
+        rayQueryFeatures.pNext = std::exchange(chain, &rayQueryFeatures);
+        accelerationFeatures.pNext = std::exchange(chain, &accelerationFeatures);
+    }
+    // Memory priorities where offered (vk/memory.h gives each block one),
+    // and pageable device-local memory with them: the driver may then move
+    // low-priority memory out of the device when it runs short.
+    auto extensions = physical.enumerateDeviceExtensionProperties();
+    auto offered = physical.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceMemoryPriorityFeaturesEXT,
+                                         vk::PhysicalDevicePageableDeviceLocalMemoryFeaturesEXT>();
+    vk::PhysicalDeviceMemoryPriorityFeaturesEXT priorityFeatures{.memoryPriority = VK_TRUE};
+    vk::PhysicalDevicePageableDeviceLocalMemoryFeaturesEXT pageableFeatures{.pageableDeviceLocalMemory = VK_TRUE};
+    enabled.priorities = hasExtension(extensions, VK_EXT_MEMORY_PRIORITY_EXTENSION_NAME) &&
+                         offered.get<vk::PhysicalDeviceMemoryPriorityFeaturesEXT>().memoryPriority;
+    enabled.pageable = enabled.priorities &&
+                       hasExtension(extensions, VK_EXT_PAGEABLE_DEVICE_LOCAL_MEMORY_EXTENSION_NAME) &&
+                       offered.get<vk::PhysicalDevicePageableDeviceLocalMemoryFeaturesEXT>().pageableDeviceLocalMemory;
+    if (enabled.priorities) {
+        deviceExtensions.push_back(VK_EXT_MEMORY_PRIORITY_EXTENSION_NAME);
+        priorityFeatures.pNext = std::exchange(chain, &priorityFeatures);
+        if (enabled.pageable) {
+            deviceExtensions.push_back(VK_EXT_PAGEABLE_DEVICE_LOCAL_MEMORY_EXTENSION_NAME);
+            pageableFeatures.pNext = std::exchange(chain, &pageableFeatures);
+        }
+    }
+    return vk::raii::Device(physical, vk::DeviceCreateInfo{.pNext = chain,
+                                                           .queueCreateInfoCount = 1,
+                                                           .pQueueCreateInfos = &queueInfo,
+                                                           .enabledExtensionCount = uint32_t(deviceExtensions.size()),
+                                                           .ppEnabledExtensionNames = deviceExtensions.data()});
+}
+
 }  // namespace
 
 std::vector<DeviceInfo> VulkanContext::listDevices() {
@@ -216,41 +306,45 @@ VulkanContext::VulkanContext(const ContextOptions& options) {
         queueFamily = *presenting;
         deviceExtensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     }
-    float priority = 1.0f;
-    vk::DeviceQueueCreateInfo queueInfo{.queueFamilyIndex = queueFamily, .queueCount = 1, .pQueuePriorities = &priority};
-    vk::PhysicalDeviceVulkan12Features features12{.bufferDeviceAddress = VK_TRUE};  // scene arrays (shaders/scene.glsl)
-    // The texture array is indexed by a material's slot, which varies across
-    // an invocation group (shaders/texture.glsl, nonuniformEXT).
-    features12.shaderSampledImageArrayNonUniformIndexing =
-        physicalDevice.getFeatures2<vk::PhysicalDeviceFeatures2, vk::PhysicalDeviceVulkan12Features>()
-            .get<vk::PhysicalDeviceVulkan12Features>()
-            .shaderSampledImageArrayNonUniformIndexing;
-    vk::PhysicalDeviceRayQueryFeaturesKHR rayQueryFeatures{.pNext = &features12, .rayQuery = VK_TRUE};
-    vk::PhysicalDeviceAccelerationStructureFeaturesKHR accelerationFeatures{.pNext = &rayQueryFeatures,
-                                                                            .accelerationStructure = VK_TRUE};
-    if (info_.rayQuery)
-        deviceExtensions.insert(deviceExtensions.end(), std::begin(kRayQueryExtensions), std::end(kRayQueryExtensions));
-    device = vk::raii::Device(physicalDevice, vk::DeviceCreateInfo{.pNext = info_.rayQuery
-                                                                                ? static_cast<void*>(&accelerationFeatures)
-                                                                                : static_cast<void*>(&features12),
-                                                                   .queueCreateInfoCount = 1,
-                                                                   .pQueueCreateInfos = &queueInfo,
-                                                                   .enabledExtensionCount = uint32_t(deviceExtensions.size()),
-                                                                   .ppEnabledExtensionNames = deviceExtensions.data()});
+    MemoryExtensions memoryExtensions;
+    device = createDevice(physicalDevice, queueFamily, deviceExtensions, info_.rayQuery, memoryExtensions);
     queue = vk::raii::Queue(device, queueFamily, 0);
+    // One-time command buffers (submitAndWait), freed after their
+    // submission; whoever reuses one has a pool of its own and resets that.
     commandPool = vk::raii::CommandPool(device, vk::CommandPoolCreateInfo{
-                                                    .flags = vk::CommandPoolCreateFlagBits::eResetCommandBuffer,
+                                                    .flags = vk::CommandPoolCreateFlagBits::eTransient,
                                                     .queueFamilyIndex = queueFamily});
     pipelineCache = std::make_unique<PipelineCache>(
         device, physicalDevice.getProperties(),
         options.pipelineCacheFolder ? *options.pipelineCacheFolder : pipelineCacheFolderFromEnvironment());
+    events = std::make_unique<DeviceEvents>(info_.name, injectedFaultFromEnvironment());
+    bool discrete = options.discreteMemory.value_or(discreteMemoryFromEnvironment());
+    memory = std::make_unique<MemoryAllocator>(
+        physicalDevice, device,
+        MemoryOptions{.unified = !discrete && hasUnifiedMemory(physicalDevice),
+                      .priorities = memoryExtensions.priorities,
+                      .pageable = memoryExtensions.pageable},
+        events.get());
 }
 
-void VulkanContext::waitForFence(vk::Fence fence) {
+void VulkanContext::submit(const vk::SubmitInfo& info, vk::Fence fence) const {
+    events->submission();
+    try {
+        queue.submit(info, fence);
+    } catch (const vk::SystemError& e) {
+        events->failSubmission(vk::Result(e.code().value()));
+    }
+}
+
+void VulkanContext::waitForFence(vk::Fence fence) const {
     // vk::raii turns VK_ERROR_DEVICE_LOST and friends into vk::SystemError.
-    vk::Result result = device.waitForFences(fence, VK_TRUE, UINT64_MAX);
-    if (result != vk::Result::eSuccess)
-        throw std::runtime_error("vkWaitForFences: " + vk::to_string(result));
+    vk::Result result;
+    try {
+        result = device.waitForFences(fence, VK_TRUE, UINT64_MAX);
+    } catch (const vk::SystemError& e) {
+        events->failSubmission(vk::Result(e.code().value()));
+    }
+    if (result != vk::Result::eSuccess) throw std::runtime_error("vkWaitForFences: " + vk::to_string(result));
 }
 
 }  // namespace whitted

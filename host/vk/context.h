@@ -1,7 +1,9 @@
 // Vulkan instance, device choice, logical device and compute queue.
 #pragma once
 
+#include "vk/device_events.h"
 #include "vk/device_info.h"
+#include "vk/memory.h"
 #include "vk/pipeline_cache.h"
 
 #include <vulkan/vulkan_raii.hpp>
@@ -34,7 +36,15 @@ struct ContextOptions {
     // The folder of the pipeline cache files (vk/pipeline_cache.h); an empty
     // path keeps the cache in memory only. Unset: from the environment.
     std::optional<std::filesystem::path> pipelineCacheFolder{};
+    // Memory as on a discrete GPU even on a device that works in host
+    // memory (lavapipe): nothing Shared, every upload and read-back through
+    // staging copies (vk/memory.h). Unset: WHITTED_DISCRETE_MEMORY=1 in a
+    // test build (WHITTED_TEST_HOOKS), else off.
+    std::optional<bool> discreteMemory{};
 };
+
+// WHITTED_DISCRETE_MEMORY (test builds only): anything but empty or 0.
+bool discreteMemoryFromEnvironment();
 
 // Owns the Vulkan objects every renderer needs. Validation messages (when
 // enabled) are printed to stderr and counted so that tests and `render`
@@ -61,6 +71,17 @@ public:
     // Every pipeline is created through it and saved into it
     // (createComputePipeline); a pointer so that a const context can save.
     std::unique_ptr<PipelineCache> pipelineCache;
+    // Counts submissions and allocations, knows what the device is doing
+    // (DeviceActivity), turns a lost device or exhausted memory into a
+    // DeviceFailure; a pointer so that a const context can count.
+    std::unique_ptr<DeviceEvents> events;
+    // Every buffer's and image's memory (vk/memory.h); goes before the device.
+    std::unique_ptr<MemoryAllocator> memory;
+
+    // Every queue submission goes through these two: a lost device (or an
+    // injected fault) throws DeviceFailure.
+    void submit(const vk::SubmitInfo& info, vk::Fence fence) const;
+    void waitForFence(vk::Fence fence) const;
 
     // Runs `record` on a one-time command buffer, submits it and waits.
     template <typename F>
@@ -74,13 +95,11 @@ public:
         cmd.end();
         vk::raii::Fence fence(device, vk::FenceCreateInfo{});
         vk::CommandBuffer raw = *cmd;
-        queue.submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &raw}, *fence);
+        submit(vk::SubmitInfo{.commandBufferCount = 1, .pCommandBuffers = &raw}, *fence);
         waitForFence(*fence);
     }
 
 private:
-    void waitForFence(vk::Fence fence);
-
     DeviceInfo info_;
     // Heap-allocated so the debug callback's user pointer stays valid.
     std::unique_ptr<std::atomic<uint32_t>> validationMessages_ =
