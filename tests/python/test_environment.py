@@ -234,3 +234,46 @@ def test_background_depth_is_infinite_with_an_environment(renderer, tmp_path):
     assert np.isinf(depth[0, 0]) and ids[0, 0] == 0xFFFFFFFF
     scene.environment = None  # without one, 0 as before
     assert renderer.render(scene, spp=4, aa="uniform", aovs=("depth",)).aovs["depth"][0, 0] == 0.0
+
+
+def test_a_small_disc_lights_like_a_directional_light_of_its_radiance_times_solid_angle_over_pi(renderer, tmp_path):
+    """The normalisation, diffuse and specular: a black environment with a disc of radiance L and solid angle
+    omega lights a floor as a directional light of colour L omega / pi along the disc's centre does."""
+    w, h, radius = 256, 128, math.radians(4.0)
+    elevation, azimuth = math.radians(55.0), math.radians(30.0)
+    sun = np.array([math.cos(elevation) * math.sin(azimuth), math.sin(elevation),
+                    -math.cos(elevation) * math.cos(azimuth)])
+    t = (np.arange(h) + 0.5) / h
+    u = (np.arange(w) + 0.5) / w
+    uu, tt = np.meshgrid(u, t)
+    theta, phi = tt * np.pi, (uu - 0.5) * 2 * np.pi
+    d = np.stack([np.sin(theta) * np.sin(phi), np.cos(theta), -np.sin(theta) * np.cos(phi)], axis=-1)
+    inside = d @ sun >= math.cos(radius)
+    solid_angle = float(np.sum(((2 * np.pi / w) * (np.pi / h) * np.sin(theta))[inside]))
+    image = np.zeros((h, w, 3), np.float32)
+    image[inside] = 100.0
+    write_exr(tmp_path / "disc.exr", image)
+    colour = 100.0 * solid_angle / math.pi
+
+    def floor(world):
+        return whitted.loads(f"""<scene>
+  <camera><position x="0" y="3" z="3"/><window_position x="0" y="2.3" z="2.3"/><fov>40</fov>
+    <width>48</width><height>36</height></camera>
+  {world}
+  <ambient_light r="0" g="0" b="0"/>
+  <objects><object><position x="0" y="0" z="0"/><diffuse_color r="0.8" g="0.6" b="0.4"/>
+    <properties><type>plane</type><normal x="0" y="1" z="0"/><diffuse_coef>0.7</diffuse_coef>
+      <specular_coef>0.3</specular_coef><shininess>8</shininess></properties></object></objects>
+</scene>""", base_dir=str(tmp_path))
+
+    lit = floor('<environment><image>disc.exr</image><shadow_samples>16</shadow_samples></environment>'
+                '<lights></lights>')
+    direction = -sun
+    point = floor(f'<lights><light><type>directional</type><direction x="{direction[0]}" y="{direction[1]}" '
+                  f'z="{direction[2]}"/><color r="{colour}" g="{colour}" b="{colour}"/></light></lights>')
+    a = renderer.render(lit, spp=16, aa="uniform", aovs=("diffuse", "specular"))
+    b = renderer.render(point, spp=16, aa="uniform", aovs=("diffuse", "specular"))
+    for name in ("diffuse", "specular"):
+        got, want = a.aovs[name].mean(axis=(0, 1)), b.aovs[name].mean(axis=(0, 1))
+        assert np.all(want > 0.01), (name, want)
+        assert np.allclose(got, want, rtol=0.02), (name, got, want)
