@@ -1,5 +1,6 @@
 // The environment (scenes/README.md "Environment"): the mapping's convention, the writer's round trip, the
 // importance-sampling distribution, and the environment light's normalisation against a directional light.
+#include "io/image_io.h"
 #include "render/gpu_environment.h"
 #include "scene/environment.h"
 #include "scene/scene_loader.h"
@@ -9,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <numeric>
 
 namespace whitted::test {
@@ -100,6 +102,41 @@ TEST(Environment, DistributionFollowsLuminanceTimesSinTheta) {
     EXPECT_NEAR(d[3] - d[2], s2 / (s2 + s3 + s4), 1e-6);
     std::vector<float> black = environmentDistribution(w, h, std::vector<float>(w * h, 0.0f));
     for (int y = 0; y <= h; ++y) EXPECT_NEAR(black[y], float(y) / h, 1e-6);
+}
+
+// The command line: --background transparent writes the coverage as the EXR's fourth channel (1 on the
+// sphere, 0 around it, fractional at its edge; the background's colour black, premultiplied) and the depth of
+// the background as infinity; --environment FILE replaces the scene's environment, and a file that does not
+// exist exits 2 naming it, writing nothing.
+TEST(Environment, CommandLineTransparentBackgroundAndEnvironmentFile) {
+    std::filesystem::path dir = freshOutputDir("environment", "cli");
+    std::string scene = std::string(kGradientScene);
+    std::ofstream(dir / "gradient.xml") << scene;
+    CommandRun run = runCommand("'" WHITTED_EXECUTABLE "' render gradient.xml --width 40 --height 30 --spp 16 "
+                                "--aa uniform --aov depth --background transparent -q -o out.exr", dir);
+    ASSERT_EQ(run.status, 0) << run.output;
+    int w = 0, h = 0, channels = 0;
+    std::vector<float> storage, depthStorage;
+    std::span<const float> image = readImageInto(dir / "out.exr", w, h, channels, storage);
+    ASSERT_EQ(channels, 4);
+    auto alpha = [&](int x, int y) { return image[(size_t(y) * w + x) * 4 + 3]; };
+    EXPECT_EQ(alpha(20, 15), 1.0f);  // the sphere fills the centre
+    EXPECT_EQ(alpha(0, 0), 0.0f);
+    EXPECT_EQ(image[0], 0.0f);  // the background not seen: black, the colour premultiplied
+    int fractional = 0;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) fractional += alpha(x, y) > 0.0f && alpha(x, y) < 1.0f ? 1 : 0;
+    EXPECT_GT(fractional, 8);
+    std::span<const float> depth = readImageInto(dir / "out.depth.exr", w, h, channels, depthStorage);
+    EXPECT_TRUE(std::isinf(depth[0]));
+    EXPECT_NEAR(depth[(size_t(15) * w + 20) * channels], 4.0f, 0.05f);
+
+    CommandRun missing = runCommand("'" WHITTED_EXECUTABLE "' render gradient.xml --environment no_such.exr -q "
+                                    "-o missing.png", dir);
+    EXPECT_EQ(missing.status, 2);
+    EXPECT_NE(missing.output.find("no_such.exr: environment image does not exist"), std::string::npos)
+        << missing.output;
+    EXPECT_FALSE(std::filesystem::exists(dir / "missing.png"));
 }
 
 }  // namespace
