@@ -74,6 +74,10 @@ TEST(Environment, WriterRoundTrip) {
     EXPECT_EQ(a.intensity, e.intensity);
     EXPECT_EQ(a.visible, e.visible);
     EXPECT_EQ(a.shadowSamples, e.shadowSamples);
+    // Written for a file elsewhere (the paths of images made relative to it), the same.
+    Scene elsewhere = loadSceneFromString(sceneXml(scene, outputDir() / "elsewhere.xml"), "elsewhere.xml");
+    ASSERT_TRUE(elsewhere.environment);
+    EXPECT_EQ(elsewhere.environment->ground, e.ground);
     // Without one, nothing is written.
     Scene none = loadSceneFromString(sceneXml(loadScene(sourceDir() / "scenes" / "room.xml")), "room.xml");
     EXPECT_FALSE(none.environment);

@@ -318,7 +318,7 @@ std::string sceneXml(const Scene& scene, const std::filesystem::path& destinatio
     x.colour("ambient_light", scene.ambientLight);
     FilePlaces places{scene.sourcePath.parent_path(), destination};
     if (const std::optional<Environment>& env = scene.environment) {
-        std::string image = textureText(TextureRef{env->imageWritten, env->image}, places);
+        std::string image = env->image ? textureText(TextureRef{env->imageWritten, env->image}, places) : "";
         std::istringstream lines(environmentXml(*env, image, 0));
         for (std::string line; std::getline(lines, line);) x.line(line);
     }
