@@ -189,7 +189,11 @@ WHITTED_CONST uint kFeatureSmoothTriangles = 8u;
 WHITTED_CONST uint kFeatureSpotLights = 16u;
 WHITTED_CONST uint kFeatureDirectionalLights = 32u;
 WHITTED_CONST uint kFeatureFalloff = 64u;
-WHITTED_CONST uint kFeatureAll = 127u;
+// An <environment> (EnvironmentParams.kind != kEnvironmentNone; shaders/environment.glsl), and its light
+// (EnvironmentParams.shadowSamples > 0): a scene without one compiles neither.
+WHITTED_CONST uint kFeatureEnvironment = 128u;
+WHITTED_CONST uint kFeatureEnvironmentLight = 256u;
+WHITTED_CONST uint kFeatureAll = 511u;
 
 // FrameParams.options bit flags.
 WHITTED_CONST uint kOptionWriteAovs = 1u;
@@ -424,6 +428,32 @@ struct CsgNode {
 WHITTED_CONST uint kProjectionPerspective = 0u;
 WHITTED_CONST uint kProjectionOrthographic = 1u;
 
+// EnvironmentParams.kind (scenes/README.md "Environment").
+WHITTED_CONST uint kEnvironmentNone = 0u;
+WHITTED_CONST uint kEnvironmentColor = 1u;
+WHITTED_CONST uint kEnvironmentGradient = 2u;
+WHITTED_CONST uint kEnvironmentImage = 3u;
+
+// The world around the scene (shaders/environment.glsl): what a ray that leaves the scene sees, and the light
+// it gives. Colours are already times the intensity. The image's importance-sampling distribution
+// (pbrt-v4's PiecewiseConstant2D over luminance x sin theta, host/render/gpu_environment.cpp) is a float
+// array at distributionAddress: the marginal CDF over the image's rows (height + 1 values), then each row's
+// conditional CDF over its columns (width + 1 values a row).
+struct EnvironmentParams {
+    vec3 color WHITTED_ZERO;           // kEnvironmentColor: the colour; kEnvironmentGradient: the zenith's
+    uint kind WHITTED_ZERO;            // kEnvironment*
+    vec3 horizon WHITTED_ZERO;         // gradient: the horizon's colour
+    uint image WHITTED_ZERO;           // kEnvironmentImage: its slot in the kBindingTextures array
+    vec3 ground WHITTED_ZERO;          // gradient: the nadir's colour
+    float rotation WHITTED_ZERO;       // radians about +y (counter-clockwise seen from above)
+    float intensity WHITTED_ZERO;      // kEnvironmentImage: multiplies the texels
+    uint visible WHITTED_ZERO;         // 0: camera rays do not see it (mirrors, glass and lighting still do)
+    uint shadowSamples WHITTED_ZERO;   // its light's shadow rays per camera sample; 0: it lights nothing
+    uint pad0 WHITTED_ZERO;
+    uvec2 distributionAddress WHITTED_ZERO;  // kEnvironmentImage: float[], see above
+    uvec2 imageSize WHITTED_ZERO;            // kEnvironmentImage: the distribution's width and height
+};
+
 // Per-render constants (uniform buffer). The addresses are device addresses
 // as (low, high) words.
 struct FrameParams {
@@ -460,6 +490,7 @@ struct FrameParams {
     uvec2 pixelListAddress WHITTED_ZERO;    // uint[]: the pixels of a list dispatch
     uvec2 guideAddress WHITTED_ZERO;        // uvec4[]: the adaptive guide
     uvec2 sampleStatsAddress WHITTED_ZERO;  // uvec4[]: the sample statistics of the list's pixels
+    EnvironmentParams environment WHITTED_ZERO;  // kind kEnvironmentNone: the background is black
 };
 
 // Object id of a sample that hit nothing.

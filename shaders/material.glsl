@@ -12,6 +12,8 @@ const bool kHasSmoothTriangles = (kFeatures & kFeatureSmoothTriangles) != 0u;
 const bool kHasSpotLights = (kFeatures & kFeatureSpotLights) != 0u;
 const bool kHasDirectionalLights = (kFeatures & kFeatureDirectionalLights) != 0u;
 const bool kHasFalloff = (kFeatures & kFeatureFalloff) != 0u;
+const bool kHasEnvironment = (kFeatures & kFeatureEnvironment) != 0u;
+const bool kHasEnvironmentLight = (kFeatures & kFeatureEnvironmentLight) != 0u;
 
 // The colour Cd at surface point p: the diffuse colour, or with a solid
 // checker (cell size S > 0) the checker colour in the cells

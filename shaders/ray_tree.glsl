@@ -239,6 +239,17 @@ void rayTreeShadowRayEnd(vec3 visibility) {
     rayTree.rays[gRayTreeCurrent].shadowRayCount += 1u;
 }
 
+// The current ray left the scene and sees the environment's `radiance`, times `weight`: recorded as its
+// emission, with no local terms (ambient, diffuse, specular 0); its primitive stays kNoObject, t 3e38.
+void rayTreeMissed(vec3 weight, vec3 radiance) {
+    if (gRayTreeCurrent == kNoObject) return;
+    uint i = gRayTreeCurrent;
+    rayTree.rays[i].t = 3.0e38;
+    rayTree.rays[i].weight = weight;
+    rayTree.rays[i].emission = radiance;
+    rayTree.rays[i].contribution = weight * radiance;
+}
+
 // The current ray hit `hit` and was shaded: its hit, the weight that scaled
 // its local terms and its contribution, as traceSamples adds it to the pixel.
 void rayTreeShaded(Hit hit, Primitive prim, bool frontFace, vec3 p, vec3 ns, vec3 weight, LocalShading local,

@@ -1,6 +1,7 @@
 // Local Phong shading at a hit point (scenes/scenes/README.md, "Shading model").
 #ifndef WHITTED_SHADING_GLSL
 #define WHITTED_SHADING_GLSL
+#include "environment.glsl"
 #include "intersect.glsl"
 #include "sampling.glsl"
 
@@ -129,6 +130,34 @@ void addShadowedLight(inout LocalShading s, Material m, ShadowQuery q, vec3 visi
     if (m.ks > 0.0) s.specular += light * m.ks * m.specular * q.highlight;
 }
 
+// The environment's light, after the scene's lights (walk.light == lightCount): its shadow_samples N
+// directions of camera sample `sampleIndex` of n are samples sampleIndex N + k of a pattern of n N of
+// dimension kDimLightBase + lightCount (as a light of that index would be), drawn by
+// sampleEnvironmentLight; each brings radiance(l) / (pi pdf(l) N) per unit of the Phong formula, and its
+// shadow ray runs to infinity. False when its samples are done.
+bool nextEnvironmentRay(inout LocalShading s, inout LightWalk w, Material m, vec3 p, vec3 n, vec3 ng, vec3 viewDir,
+                        uint sampleIndex, uint patternSize, uint pixelSeed, out ShadowQuery q) {
+    uint count = params.environment.shadowSamples;
+    while (w.taken < count) {
+        uint k = w.taken++;
+        vec2 u = sampleDimension(sampleIndex * count + k, patternSize * count, pixelSeed,
+                                 kDimLightBase + params.lightCount);
+        vec3 l, weight;
+        if (!sampleEnvironmentLight(n, u, l, weight)) continue;
+        float nDotL = dot(n, l);
+        if (nDotL <= 0.0 || dot(ng, l) <= 0.0 || all(equal(weight, vec3(0.0)))) continue;
+        s.shadowRays += 1u;
+        q.ray = Ray(p, l);
+        q.dist = kRayInfinity;
+        q.light = params.lightCount;
+        q.radiance = weight / float(count);
+        q.nDotL = nDotL;
+        q.highlight = m.ks > 0.0 ? pow(max(dot(reflect(-l, n), viewDir), 0.0), m.shininess) : 0.0;
+        return true;
+    }
+    return false;
+}
+
 // The next light sample of the walk that needs a shadow ray (one in front
 // of both normals), as q; false when the walk is done. Counts the shadow
 // rays in s.
@@ -138,7 +167,8 @@ bool nextShadowRay(inout LocalShading s, inout LightWalk w, Material m, vec3 p, 
 #ifdef WHITTED_PROFILE_NO_LIGHTS  // tools/profile_shader.sh: ambient only, no light loop
     lightCount = 0u;
 #endif
-    if (m.kd <= 0.0 && m.ks <= 0.0) lightCount = 0u;
+    bool lit = m.kd > 0.0 || m.ks > 0.0;
+    if (!lit) lightCount = 0u;
     while (w.light < lightCount) {
         uint i = w.light;
         if (w.taken == 0u) {
@@ -203,6 +233,8 @@ bool nextShadowRay(inout LocalShading s, inout LightWalk w, Material m, vec3 p, 
 #endif
         return true;
     }
+    if (kHasEnvironmentLight && lit)
+        return nextEnvironmentRay(s, w, m, p, n, ng, viewDir, sampleIndex, patternSize, pixelSeed, q);
     return false;
 }
 

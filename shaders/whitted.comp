@@ -272,10 +272,11 @@ bool surfaceAt(inout PendingRay pending, Hit hit, bool lens, out ShadedHit h, in
 // (lavapipe) lanes in two walks take turns, each walk run under a mask;
 // in one walk they step together (measurements:
 // tools/benchmark_results/notes-shader.md).
-// False when there is nothing to shade: a miss (the background is black, and the probe's ids stay
+// False when there is nothing to shade: a miss (`missed`: the ray left the scene, and the probe's ids stay
 // kNoObject), the probe or a pinhole ray.
 bool shadeHit(inout PendingRay pending, bool probing, SampleWalk s, out ShadedHit h, inout SampleResult result,
-              inout uvec2 ids) {
+              inout uvec2 ids, out bool missed) {
+    missed = false;
     Ray queryRay = pending.ray;
     float tMax = 3.0e38;
     bool shadow = false, shaded = false;
@@ -291,7 +292,10 @@ bool shadeHit(inout PendingRay pending, bool probing, SampleWalk s, out ShadedHi
 #endif
             addShadowedLight(h.local, h.m, query, visibility);
         } else {
-            if (!found) break;
+            if (!found) {
+                missed = !probing;
+                break;
+            }
 #ifdef WHITTED_PROFILE_NO_SHADING  // tools/profile_shader.sh: camera rays traced, not shaded
             result.components[0] += abs(hit.normal);
             break;
@@ -339,6 +343,26 @@ void addHitLight(PendingRay pending, inout ShadedHit h, inout SampleWalk s, inou
     }
 #ifdef WHITTED_RAY_TREE
     rayTreeShaded(h.hit, h.prim, h.frontFace, h.p, h.ns, pending.weight, h.local, h.m.emission);
+#endif
+}
+
+// A ray that left the scene sees the environment (shaders/environment.glsl), times its weight: a camera ray
+// (unless the environment is invisible to them) in the ambient component, the other constant term beside
+// emission; a reflected or refracted ray in its own component and depth layer. A pinhole ray adds nothing.
+void addEnvironmentSeen(PendingRay pending, inout SampleWalk s, inout SampleResult result) {
+    if (pending.component == kPinholeAovRay) return;
+    if (pending.depth == 0u && params.environment.visible == 0u) return;
+    vec3 radiance = environmentRadiance(pending.ray.dir);
+    vec3 light = pending.weight * radiance;
+    if (pending.depth == 0u) {
+        result.components[0] += light;
+    } else {
+        result.components[pending.component - 1u] += light;
+        addBounceSplit(pending.component, pending.depth, light);
+    }
+    s.color += light;
+#ifdef WHITTED_RAY_TREE
+    rayTreeMissed(pending.weight, radiance);
 #endif
 }
 
@@ -451,7 +475,11 @@ void traceSamples(uvec2 pixel, uint first, uint end, uint patternSize, uint pixe
         continue;
 #endif
         ShadedHit h;
-        if (!shadeHit(pending, probing, s, h, result, ids)) continue;
+        bool missed;
+        if (!shadeHit(pending, probing, s, h, result, ids, missed)) {
+            if (kHasEnvironment && missed) addEnvironmentSeen(pending, s, result);
+            continue;
+        }
         addHitLight(pending, h, s, result, rayCount);
         if (pending.depth < params.maxDepth) pushChildren(pending, h, s);
     }

@@ -425,6 +425,37 @@ TEST(PovrayCrossCheck, TexturedSphereSphericalMap) {
     expectAgreement("textured_sphere", loadSceneFromString(xml, povrayDir() / "textured_sphere.xml"));
 }
 
+// The environment (scenes/README.md "Environment") as POV-Ray's sky: an image as a sky_sphere image_map
+// (map_type 1 turned so that its centre looks along -z, then by the rotation), a gradient as a sky_sphere
+// whose pigment is linear in y; seen behind the objects and in a mirror sphere. The environment lights
+// nothing here (<shadow_samples>0</shadow_samples>): POV-Ray's sky does not.
+std::string environmentScene(const std::string& environment) {
+    return "<scene>" + kTexturedLights + "\n  " + environment + R"(
+  <objects>
+    <object><position x="-0.6" y="1" z="0"/><specular_color r="1" g="1" b="1"/>
+      <properties><type>sphere</type><radius>0.8</radius><diffuse_coef>0</diffuse_coef>
+        <reflection_coef>1</reflection_coef></properties></object>
+    <object><position x="1.1" y="0.6" z="0.3"/><diffuse_color r="0.8" g="0.3" b="0.2"/>
+      <properties><type>sphere</type><radius>0.5</radius><diffuse_coef>0.8</diffuse_coef></properties></object>
+  </objects>
+</scene>)";
+}
+
+TEST(PovrayCrossCheck, EnvironmentImageAsSkySphere) {
+    writeSmoothTexture(povrayDir() / "smooth.png");
+    std::string xml = environmentScene(
+        "<environment><image>smooth.png</image><rotation>30</rotation><shadow_samples>0</shadow_samples>"
+        "</environment>");
+    expectAgreement("environment_image", loadSceneFromString(xml, povrayDir() / "environment_image.xml"));
+}
+
+TEST(PovrayCrossCheck, EnvironmentGradientAsSkySphere) {
+    std::string xml = environmentScene(
+        "<environment><gradient><zenith r=\"0.1\" g=\"0.3\" b=\"0.9\"/><horizon r=\"0.9\" g=\"0.9\" b=\"0.8\"/>"
+        "<ground r=\"0.3\" g=\"0.2\" b=\"0.1\"/></gradient><shadow_samples>0</shadow_samples></environment>");
+    expectAgreement("environment_gradient", loadSceneFromString(xml, povrayDir() / "environment_gradient.xml"));
+}
+
 // Mesh texture coordinates (uv_mapping, each triangle's uv_vectors): a
 // curved sheet of 8 x 4 quads on a cylinder arc, u across it, v up.
 TEST(PovrayCrossCheck, TexturedMeshUvMapping) {

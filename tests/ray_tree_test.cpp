@@ -130,9 +130,10 @@ TEST_P(ShippedScene, RayTreeContributionsAddUpToTheRenderedPixel) {
 }
 
 // Every scene file shipped in scenes/ (a test below checks the list is whole).
-const std::vector<std::string> kShippedScenes = {"n_diffuse_objects.xml", "n_objects.xml",     "nested_spheres.xml",
-                                                 "one_mirror.xml",        "room.xml",          "several_mirrors.xml",
-                                                 "showcase.xml",          "soft.xml",          "three_diffuse_spheres.xml"};
+const std::vector<std::string> kShippedScenes = {"environment.xml", "n_diffuse_objects.xml", "n_objects.xml",
+                                                 "nested_spheres.xml", "one_mirror.xml", "room.xml",
+                                                 "several_mirrors.xml", "showcase.xml", "soft.xml",
+                                                 "three_diffuse_spheres.xml"};
 INSTANTIATE_TEST_SUITE_P(RayTree, ShippedScene, testing::ValuesIn(kShippedScenes),
                          [](const testing::TestParamInfo<std::string>& info) {
                              return fs::path(info.param).stem().string();

@@ -44,6 +44,8 @@ struct RenderCommandOptions {
     bool verbose = false;  // -v: the lines summary warnings stand for
     std::string camera;    // --camera INDEX|NAME
     double exposure = 0;   // --exposure EV
+    bool transparent = false;  // --background transparent: coverage as the image's alpha
+    std::filesystem::path environment;  // --environment FILE: an image environment replacing the scene's
 };
 
 // Refuses an output that can't be written before any work is done: its
@@ -104,6 +106,7 @@ public:
         auto loadStart = std::chrono::steady_clock::now();
         try {
             scene_ = loadSceneOrModel(options_.scene, options_.camera);  // a model file: authored or a quick look
+            if (!options_.environment.empty()) scene_.environment = environmentFromImageFile(options_.environment);
         } catch (const SceneError& e) {
             std::cerr << e.what() << "\n";
             return kExitBadInput;
@@ -116,7 +119,8 @@ public:
                 return kExitBadInput;
             }
         settings_ = options_.settings;
-        settings_.auxiliary = !aovs_.empty();
+        settings_.auxiliary = !aovs_.empty() || options_.transparent;  // the alpha is the hit mask's
+        settings_.transparentBackground = options_.transparent;
         // Split layers only when a split image is written (they cost memory and bandwidth).
         if (!hasSplitAov(aovs_)) settings_.aovBounces = 0;
         settings_.ids = hasIdAov(aovs_);  // the id layer, likewise
@@ -208,7 +212,7 @@ private:
     // clean). Returns false when the validation layer spoke.
     bool renderInto(const std::filesystem::path& mainImage) {
         ImageFileSink sink(mainImage, aovs_, options_.tonemap, shares_.front()->layout(), settings_.samplesPerPixel,
-                           options_.exposure);
+                           options_.exposure, options_.transparent);
         ProgressBar bar("rendering", !options_.quiet);
         result_ = renderOnDevices(shares_, sink, [&](double f) {
             throwIfInterrupted();
@@ -273,7 +277,7 @@ int runRenderCommand(const RenderCommandOptions& options) {
 // The command line's words, as given; run() checks and maps them.
 struct RenderArguments {
     RenderCommandOptions options;
-    std::string output, aa = "adaptive", region, tonemap = "clamp", trace = "auto";
+    std::string output, aa = "adaptive", region, tonemap = "clamp", trace = "auto", background = "opaque";
     bool noBvh = false;
 
     int run() {
@@ -297,6 +301,11 @@ struct RenderArguments {
             }
         }
         o.tonemap = tonemap == "seed" ? Tonemap::Seed : Tonemap::Clamp;
+        o.transparent = background == "transparent";
+        if (o.transparent && o.tonemap == Tonemap::Seed) {
+            std::cerr << "whitted: --background transparent and --tonemap seed exclude each other\n";
+            return kExitBadInput;
+        }
         o.validation = o.validation || validationFromEnvironment();
         return runRenderCommand(o);
     }
@@ -357,6 +366,13 @@ Command addRenderCommand(CLI::App& app) {
         ->check(CLI::Range(0, int(gpu::kAovBouncesMax)))->capture_default_str();
     cmd->add_option("--tonemap", args->tonemap, "clamp (sRGB) or seed (min-max normalisation, gamma 0.667)")
         ->check(CLI::IsMember({"clamp", "seed"}))->capture_default_str();
+    cmd->add_option("--background", args->background,
+                    "opaque, or transparent: camera rays do not see the environment, and the image gets the "
+                    "coverage as alpha (PNG RGBA, EXR A; scenes/README.md \"Environment\")")
+        ->check(CLI::IsMember({"opaque", "transparent"}))->capture_default_str();
+    cmd->add_option("--environment", render.environment,
+                    "an equirectangular image (EXR, HDR, PNG, ...) as the scene's environment, replacing its own: "
+                    "seen where rays leave the scene and lighting it (scenes/README.md \"Environment\")");
     cmd->add_option("--device", render.device,
                     "Vulkan device index or name substring [best available]; all, or a list such as 0,1, "
                     "shares the bands of one render among several devices");

@@ -138,7 +138,8 @@ ImageStreamWriter::ImageStreamWriter(const std::filesystem::path& path, int widt
     if (encoding == PixelEncoding::Uint32 && !isFloat_)
         throw std::logic_error(path.string() + ": 32-bit integer pixels need a float format (EXR)");
     ImageFileSpec spec{.width = width, .height = height, .channels = channels, .floatPixels = isFloat_,
-                       .uintPixels = encoding == PixelEncoding::Uint32, .srgb = encoding == PixelEncoding::Srgb8,
+                       .uintPixels = encoding == PixelEncoding::Uint32,
+                       .srgb = encoding == PixelEncoding::Srgb8 || encoding == PixelEncoding::Srgb8Alpha,
                        .window = window};
     std::string error;
     std::string extension = lowerExtension(path);
@@ -172,7 +173,11 @@ void ImageStreamWriter::writeRows(int row, int rows, std::span<const float> pixe
         ok = out_->file->writeRows(row, row + rows, pixels.data(), error);
     } else {
         bytes_.resize(pixels.size());
-        for (size_t i = 0; i < pixels.size(); ++i) bytes_[i] = encode8(pixels[i], encoding_);
+        if (encoding_ == PixelEncoding::Srgb8Alpha)
+            for (size_t i = 0; i < pixels.size(); ++i)
+                bytes_[i] = encode8(pixels[i], i % 4 == 3 ? PixelEncoding::Linear8 : PixelEncoding::Srgb8);
+        else
+            for (size_t i = 0; i < pixels.size(); ++i) bytes_[i] = encode8(pixels[i], encoding_);
         ok = out_->file->writeRows(row, row + rows, bytes_.data(), error);
     }
     if (!ok) throw std::runtime_error(path_.string() + ": cannot write image: " + error);

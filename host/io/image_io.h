@@ -13,6 +13,7 @@ namespace whitted {
 
 enum class PixelEncoding {
     Srgb8,    // 8-bit, sRGB transfer curve applied (colour images)
+    Srgb8Alpha,  // 8-bit RGBA: the sRGB curve on the colour, the alpha (each 4th value) stored as it is
     Linear8,  // 8-bit, values stored as they are (data images)
     Float,    // 32-bit float, linear (EXR)
     Uint32,   // float formats only: the floats' bits as 32-bit unsigned integers (mask ids, EXR UINT)

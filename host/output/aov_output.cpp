@@ -131,32 +131,36 @@ struct ImageFileSink::File {
     float lo = std::numeric_limits<float>::max(), hi = std::numeric_limits<float>::lowest();  // seed: min, max
     std::vector<uint64_t> histogram;  // 8-bit depth: counts of the upper 16 bits of the distances
     uint64_t hits = 0;
+    bool alpha = false;  // the main image with coverage as a fourth channel
 
     bool spooled() const { return spool != nullptr; }
 };
 
 ImageFileSink::ImageFileSink(const std::filesystem::path& mainImage, const std::vector<std::string>& aovs,
-                             Tonemap tonemap, const ImageLayout& layout, int maxSamples, double exposure)
+                             Tonemap tonemap, const ImageLayout& layout, int maxSamples, double exposure, bool alpha)
     : layout_(layout), maxSamples_(maxSamples), colourScale_(float(std::exp2(exposure))) {
+    if (alpha && (tonemap == Tonemap::Seed || layout.layerCount <= gpu::kAovCoefs1))
+        throw std::logic_error("an image with alpha needs the clamp tone mapping and the auxiliary layers");
     const PixelRegion& r = layout.region;
     ImageWindow window{layout.fullWidth, layout.fullHeight, r.x0, r.y0};
     std::filesystem::path folder = mainImage.parent_path().empty() ? "." : mainImage.parent_path();
-    auto add = [&](const std::filesystem::path& path, const AovSpec& spec) {
+    auto add = [&](const std::filesystem::path& path, const AovSpec& spec, bool withAlpha) {
         auto file = std::make_unique<File>();
         file->spec = spec;
         file->isFloat = isFloatFormat(path);
-        file->channels = channelCount(spec, file->isFloat);
+        file->alpha = withAlpha;
+        file->channels = channelCount(spec, file->isFloat) + (withAlpha ? 1 : 0);
         PixelEncoding encoding = spec.kind == AovKind::Id && file->isFloat ? PixelEncoding::Uint32 : PixelEncoding::Linear8;
         if (spec.kind == AovKind::Color) {
             file->seedTonemap = !file->isFloat && tonemap == Tonemap::Seed;
-            if (!file->seedTonemap) encoding = PixelEncoding::Srgb8;
+            if (!file->seedTonemap) encoding = withAlpha ? PixelEncoding::Srgb8Alpha : PixelEncoding::Srgb8;
         }
         if (file->seedTonemap || (spec.kind == AovKind::Depth && !file->isFloat)) file->spool = std::make_unique<Spool>(folder);
         if (spec.kind == AovKind::Depth && !file->isFloat) file->histogram.assign(1u << 16, 0);
         file->writer = std::make_unique<ImageStreamWriter>(path, r.width(), r.height(), file->channels, encoding, window);
         files_.push_back(std::move(file));
     };
-    add(mainImage, AovSpec{{"image", "the image"}, AovKind::Color, gpu::kAovColor, 0, 1});
+    add(mainImage, AovSpec{{"image", "the image"}, AovKind::Color, gpu::kAovColor, 0, 1}, alpha);
     uint32_t splitLayers = layout.layerCount - (layout.ids ? 1 : 0);
     uint32_t bounces = splitLayers > gpu::kAovCount ? (splitLayers - gpu::kAovCount) / 2 : 0;
     for (const std::string& name : aovs) {
@@ -167,7 +171,7 @@ ImageFileSink::ImageFileSink(const std::filesystem::path& mainImage, const std::
         }
         if (spec.kind != AovKind::Samples && layout.layerCount <= spec.layer)
             throw std::logic_error("auxiliary images requested from a render without auxiliary layers");
-        add(aovPath(mainImage, name), spec);
+        add(aovPath(mainImage, name), spec, false);
     }
 }
 
@@ -231,6 +235,27 @@ void bandValues(const AovSpec& spec, const BandView& band, int channels, bool is
 
 }  // namespace
 
+// The depth of a pixel that hit nothing in a float file: infinitely far where an environment is seen there,
+// else 0 (as before environments).
+static float noHitDepth(bool environment) {
+    return environment ? std::numeric_limits<float>::infinity() : 0.0f;
+}
+
+// The coverage is the share of each pixel's samples whose camera ray hit something (w of the coefficient
+// layer kAovCoefs1). The colour of a transparent background is black, so v is premultiplied already.
+void addCoverage(const BandView& band, bool premultiplied, std::vector<float>& v) {
+    std::span<const float> hits = band.layer(gpu::kAovCoefs1);
+    size_t n = v.size() / 3;
+    std::vector<float> rgba(n * 4);
+    for (size_t i = 0; i < n; ++i) {
+        float a = std::clamp(hits[i * 4 + 3], 0.0f, 1.0f);
+        float scale = premultiplied || a <= 0.0f ? 1.0f : 1.0f / a;
+        for (int c = 0; c < 3; ++c) rgba[i * 4 + c] = v[i * 3 + c] * scale;
+        rgba[i * 4 + 3] = a;
+    }
+    v = std::move(rgba);
+}
+
 namespace {
 
 // Calls work(i) for each i in [0, count) on up to one thread a core, this one
@@ -271,7 +296,9 @@ void ImageFileSink::writeBand(const BandView& band) {
         File& file = *files_[f];
         std::vector<float> v;
         // Depth: -1 in the spool where nothing was hit, to tell it from a distance.
-        bandValues(file.spec, band, file.channels, file.isFloat, file.spooled() ? -1.0f : 0.0f, maxSamples_, colourScale_, v);
+        float noHit = file.spooled() ? -1.0f : noHitDepth(layout_.environment);
+        bandValues(file.spec, band, file.channels, file.isFloat, noHit, maxSamples_, colourScale_, v);
+        if (file.alpha) addCoverage(band, file.isFloat, v);
         if (!file.histogram.empty())
             for (size_t i = 0; i < v.size(); ++i)
                 if (band.layer(gpu::kAovCoefs1)[i * 4 + 3] > 0) {
@@ -409,14 +436,14 @@ std::vector<std::filesystem::path> writeRenderImages(const RenderResult& result,
 namespace whitted {
 
 std::vector<float> floatImageValues(const BandView& band, const std::string& name, int bounces, int maxSamples,
-                                    int& channels) {
+                                    int& channels, bool environment) {
     AovSpec spec = name == "image" ? AovSpec{{"image", "the image"}, AovKind::Color, gpu::kAovColor, 0, 1}
                                    : findSpec(name, uint32_t(bounces));
     // The id layer follows the split layers (ImageLayout::idLayer).
     if (spec.kind == AovKind::Id) spec.layer = gpu::kAovCount + 2 * uint32_t(bounces);
     channels = channelCount(spec, true);
     std::vector<float> v;
-    bandValues(spec, band, channels, true, 0.0f, maxSamples, 1.0f, v);
+    bandValues(spec, band, channels, true, noHitDepth(environment), maxSamples, 1.0f, v);
     return v;
 }
 

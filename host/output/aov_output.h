@@ -58,8 +58,11 @@ public:
     // transmission and their split parts) are scaled by 2^exposure, in EXR
     // files as in 8-bit ones, so that the components still add up to the
     // image in every file; coefficients, ior, depth, normal and samples are not.
+    // alpha (--background transparent): the main image gets a fourth channel, the coverage (the share of
+    // its samples whose camera ray hit something: the layout's auxiliary layers must be there); EXR keeps
+    // the colour premultiplied by it (associated alpha), 8-bit files divide it out (PNG's straight alpha).
     ImageFileSink(const std::filesystem::path& mainImage, const std::vector<std::string>& aovs, Tonemap tonemap,
-                  const ImageLayout& layout, int maxSamples, double exposure = 0.0);
+                  const ImageLayout& layout, int maxSamples, double exposure = 0.0, bool alpha = false);
     ~ImageFileSink() override;
     void writeBand(const BandView& band) override;
     // Completes every file; returns the paths written, main image first.
@@ -75,9 +78,15 @@ private:
 
 // The values the float (EXR) file of "image" or of auxiliary image `name`
 // holds for `band`, row-major, `channels` (3 or 1) per pixel: what the
-// Python module hands out as arrays (host/python/).
+// Python module hands out as arrays (host/python/). environment: the
+// scene has one (ImageLayout::environment: depth infinity where nothing was hit).
 std::vector<float> floatImageValues(const BandView& band, const std::string& name, int bounces, int maxSamples,
-                                    int& channels);
+                                    int& channels, bool environment = false);
+
+// Colour values `v` (3 a pixel, as floatImageValues gives "image") with the band's coverage as a fourth
+// channel, the alpha of --background transparent; premultiplied: the colour stays as it is (EXR's
+// associated alpha), else it is divided by the alpha (PNG's straight alpha).
+void addCoverage(const BandView& band, bool premultiplied, std::vector<float>& v);
 
 // Writes the main image and the requested auxiliary images; returns the
 // paths written, main image first.

@@ -94,6 +94,8 @@ void materialFields(py::class_<View>& cls) {
         "the ambient term's colour (<ambient_color>); None: Cd");
 }
 
+}  // namespace
+
 // ---- Textures on a Material: a file, or a numpy array ----
 
 // A texture slot's value: a path (read as the loader reads <diffuse_texture>,
@@ -137,6 +139,8 @@ TextureRef textureValue(const py::object& x, TextureEncoding encoding, const std
         throw py::value_error(field + ": the array " + e.what());
     }
 }
+
+namespace {
 
 // The texture slots, in Material::textures()' order, and how each is read
 // (the loader's readTextures: colour maps sRGB-decoded, normal maps as data).
@@ -191,6 +195,9 @@ void refuseFilelessTextures(const Scene& scene, const std::string& call) {
                                       " has a texture made from an array, which has no file for the XML to name; "
                                       "save(path) writes it beside the scene file");
     }
+    if (scene.environment && scene.environment->image && scene.environment->imageWritten.empty())
+        throw py::value_error(call + ": the environment has an image made from an array, which has no file for the "
+                                     "XML to name; save(path) writes it beside the scene file");
 }
 
 void addMaterialApi(py::module_& m) {

@@ -24,6 +24,7 @@ PYBIND11_MODULE(whitted, m) {
     whitted::python::addLightApi(m);
     whitted::python::addMeshApi(m);
     whitted::python::addSceneApi(m);
+    whitted::python::addEnvironmentApi(m);
     whitted::python::addRenderApi(m);
     m.attr("_renderer") = py::none();
     // whitted.render(scene_or_path, **options): one renderer for the module,

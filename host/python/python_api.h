@@ -6,6 +6,7 @@
 // but app and view (no command line, no window; host/CMakeLists.txt).
 #pragma once
 
+#include "io/texture_file.h"
 #include "scene/scene.h"
 
 #include <pybind11/pybind11.h>
@@ -90,6 +91,9 @@ struct MeshArrays {
 void addMaterialFields(py::class_<ObjectView>& cls);
 void addMaterialFields(py::class_<MaterialValue>& cls);
 Material materialFor(const Shape& shape, const py::object& material, const std::string& field);
+// A texture from a path (read as the loader reads one, relative to the working folder) or an (H, W, 3|4)
+// array, uint8 (sRGB-encoded) or float (linear), checked against the loader's limits; None: no texture.
+TextureRef textureValue(const py::object& x, TextureEncoding encoding, const std::string& field);
 void refuseFilelessTextures(const Scene& scene, const std::string& call);
 
 // light_api.cpp: a light of add_light's arguments, checked as the loader checks <light>.
@@ -118,6 +122,8 @@ void addObjectApi(py::module_& m);
 void addLightApi(py::module_& m);
 void addMeshApi(py::module_& m);
 void addSceneApi(py::module_& m);  // Scene, load, loads
+// environment_api.cpp: whitted.Environment, and Scene.environment on the class addSceneApi registered.
+void addEnvironmentApi(py::module_& m);
 void addSceneBuilders(py::class_<SceneHandle, SceneRef>& scene);  // scene_build_api.cpp: add_*, remove
 void addRenderApi(py::module_& m);
 

@@ -142,7 +142,12 @@ struct Result {
     }
     py::array values(const std::string& name) const {
         int channels = 0;
-        std::vector<float> v = floatImageValues(pixels.whole(), name, settings.aovBounces, settings.samplesPerPixel, channels);
+        std::vector<float> v = floatImageValues(pixels.whole(), name, settings.aovBounces, settings.samplesPerPixel,
+                                                channels, pixels.layout.environment);
+        if (name == "image" && settings.transparentBackground) {
+            addCoverage(pixels.whole(), true, v);
+            channels = 4;
+        }
         std::vector<py::ssize_t> shape = {pixels.layout.region.height(), pixels.layout.region.width()};
         if (channels > 1) shape.push_back(channels);
         py::array_t<float> array = ownedArray(std::move(v), shape);
@@ -158,7 +163,8 @@ struct Result {
         if (!isWritableFormat(path))
             throw py::value_error("cannot write images of type '" + path.extension().string() +
                                   "' (use .png, .exr, .jpg or .tif)");
-        ImageFileSink sink(path, aovs, tonemap, pixels.layout, settings.samplesPerPixel);
+        ImageFileSink sink(path, aovs, tonemap, pixels.layout, settings.samplesPerPixel, 0.0,
+                           settings.transparentBackground);
         sink.writeBand(pixels.whole());
         std::vector<std::filesystem::path> files = sink.finish();
         std::filesystem::path recordPath = path;
@@ -260,7 +266,8 @@ std::vector<Camera> batchCameras(const py::object& camerasArg, std::optional<int
 RenderSettings renderSettings(const Camera& camera, std::optional<int> width, std::optional<int> height, int spp,
                               const std::string& aa, std::optional<double> aaThreshold, int maxDepth,
                               const py::object& aovsArg, int aovBounces, const std::optional<std::vector<int>>& region,
-                              const std::string& trace, const py::object& seedArg, std::vector<std::string>& aovs) {
+                              const std::string& trace, const py::object& seedArg, bool alpha,
+                              std::vector<std::string>& aovs) {
     auto bad = [](const std::string& what) { throw py::value_error(what); };
     auto side = [&](const char* name, std::optional<int> v, int fallback) {
         int x = v.value_or(fallback);
@@ -298,7 +305,8 @@ RenderSettings renderSettings(const Camera& camera, std::optional<int> width, st
     } catch (const std::invalid_argument& e) {
         bad(std::string("aovs: ") + e.what());
     }
-    s.auxiliary = !aovs.empty();
+    s.auxiliary = !aovs.empty() || alpha;  // the alpha is the hit mask's
+    s.transparentBackground = alpha;
     s.aovBounces = hasSplitAov(aovs) ? aovBounces : 0;
     s.ids = hasIdAov(aovs);
     if (region) {
@@ -341,7 +349,8 @@ public:
     py::object render(const SceneRef& handle, std::optional<int> width, std::optional<int> height, int spp,
                       const std::string& aa, std::optional<double> aaThreshold, int maxDepth, py::object aovsArg,
                       int aovBounces, std::optional<std::vector<int>> region, const std::string& trace,
-                      py::object progress, py::object camerasArg, py::object seedArg) {
+                      py::object progress, py::object camerasArg, py::object seedArg, bool alpha,
+                      const std::string& environmentSampling) {
         if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
             throw py::type_error("progress: must be callable (progress(fraction)) or None, got a " +
                                  py::str(py::type::of(progress).attr("__name__")).cast<std::string>());
@@ -350,7 +359,11 @@ public:
         std::vector<Camera> cameras = batch ? batchCameras(camerasArg, width, height) : std::vector{scene.camera};
         std::vector<std::string> aovs;
         RenderSettings s = renderSettings(cameras[0], width, height, spp, aa, aaThreshold, maxDepth, aovsArg,
-                                          aovBounces, region, trace, seedArg, aovs);
+                                          aovBounces, region, trace, seedArg, alpha, aovs);
+        if (environmentSampling != "importance" && environmentSampling != "uniform")
+            throw py::value_error("environment_sampling: must be 'importance' or 'uniform', got '" +
+                                  environmentSampling + "'");
+        s.uniformEnvironmentSampling = environmentSampling == "uniform";
         std::vector<ResultRef> results = renderEach(handle, s, aovs, cameras, batch, progress);
         if (s.ids)
             for (ResultRef& r : results) stableObjectIds(*r);
@@ -669,7 +682,8 @@ void addRenderApi(py::module_& m) {
                 if (!r.image) r.image = r.values("image");
                 return r.image;
             },
-            "float32 (H, W, 3), linear: the values of the EXR `whitted render` writes")
+            "float32 (H, W, 3), linear: the values of the EXR `whitted render` writes; with render(alpha=True) "
+            "(H, W, 4): the colour premultiplied by the alpha, the coverage")
         .def_property_readonly(
             "aovs",
             [](Result& r) {
@@ -749,13 +763,17 @@ void addRenderApi(py::module_& m) {
              py::arg("aa_threshold") = py::none(), py::arg("max_depth") = 6, py::arg("aovs") = py::tuple(),
              py::arg("aov_bounces") = 0, py::arg("region") = py::none(), py::arg("trace") = "auto",
              py::arg("progress") = py::none(), py::arg("cameras") = py::none(), py::arg("seed") = 0,
+             py::arg("alpha") = false, py::arg("environment_sampling") = "importance",
              "Renders the scene (the options of `whitted render`); returns a RenderResult. Releases the GIL; "
              "progress(fraction) is called after every submission to the device, where Ctrl+C stops the render. "
              "cameras=[Camera, ...] "
              "(e.g. scene.camera.copy() after edits): one render per camera, the scene uploaded once, only the "
              "camera block between them; returns a list of RenderResult (width/height default to the cameras' "
              "size, which must then agree). seed (0..2^32-1, default 0: today's patterns): the sample positions within "
-             "each pixel; the same seed gives the same pixels across calls, regions, threads and renderers");
+             "each pixel; the same seed gives the same pixels across calls, regions, threads and renderers. alpha=True: "
+             "the background transparent (`--background transparent`): camera rays do not see the environment, and "
+             "image gets the coverage as a fourth channel. environment_sampling='uniform': an image environment's "
+             "light directions drawn uniformly over the sphere instead of by its luminance (for comparisons)");
 }
 
 }  // namespace whitted::python

@@ -19,6 +19,9 @@ struct ImageLayout {
     PixelRegion region;       // the pixels rendered, within the full image
     uint32_t layerCount = 1;  // gpu::kAovCount (+ 2 per split bounce, + 1 with ids) with auxiliary layers, else 1
     bool ids = false;         // the last layer is the id layer (gpu::kOptionWriteIds): uint bits, not means
+    // The scene has an environment: a pixel whose samples all left the scene sees it at an infinite
+    // distance (depth infinity in float files; without one, depth 0 there).
+    bool environment = false;
     // The id layer's index, or layerCount (none).
     uint32_t idLayer() const { return ids ? layerCount - 1 : layerCount; }
 };

@@ -120,7 +120,8 @@ ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, 
 // The shapes in the BVH, any transparency, the shapes outside it (planes),
 // the auxiliary outputs, the distribution effects (a lens, gloss, area
 // lights), the shading features (Fresnel, absorption, checkers, smooth
-// triangles, spot and directional lights, falloff). What a scene lacks
+// triangles, spot and directional lights, falloff, an environment and its
+// light). What a scene lacks
 // compiles out (on lavapipe every branch costs, taken or not:
 // shaders/intersect.glsl).
 Specialization specializationFor(const GpuScene& scene) {
@@ -158,6 +159,10 @@ Specialization withShading(Specialization constants, const GpuScene& scene) {
         if (l.type == gpu::kLightSpot) features |= gpu::kFeatureSpotLights;
         if (l.type == gpu::kLightDirectional) features |= gpu::kFeatureDirectionalLights;
         if (l.falloff == gpu::kFalloffInverseSquare) features |= gpu::kFeatureFalloff;
+    }
+    if (scene.params.environment.kind != gpu::kEnvironmentNone) {
+        features |= gpu::kFeatureEnvironment;
+        if (scene.params.environment.shadowSamples > 0) features |= gpu::kFeatureEnvironmentLight;
     }
     constants[5] = features;
     return constants;

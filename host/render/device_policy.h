@@ -78,7 +78,7 @@ ShaderVariant shaderVariantFor(const VulkanContext& ctx, const GpuScene& scene, 
 // included), gpu::kSpecDistribution (a lens, gloss, area lights: a scene
 // without them compiles none of their sampling), gpu::kSpecFeatures (Fresnel,
 // absorption, checkers, smooth triangles, spot and directional lights,
-// falloff: likewise).
+// falloff, an environment and its light: likewise).
 using Specialization = std::array<uint32_t, 6>;
 Specialization specializationFor(const GpuScene& scene);
 // `constants` with the ones that follow the scene's materials, lights and

@@ -53,7 +53,14 @@ static_assert(sizeof(gpu::BvhNode) == 80 && offsetof(gpu::BvhNode, origin) == 0 
               offsetof(gpu::BvhNode, quantY) == 48 && offsetof(gpu::BvhNode, quantZ) == 64);
 static_assert(sizeof(gpu::CsgNode) == 16 && offsetof(gpu::CsgNode, op) == 0 &&
               offsetof(gpu::CsgNode, leaf) == 4);
-static_assert(sizeof(gpu::FrameParams) == 208 && offsetof(gpu::FrameParams, eye) == 0 &&
+static_assert(sizeof(gpu::EnvironmentParams) == 80 && offsetof(gpu::EnvironmentParams, kind) == 12 &&
+              offsetof(gpu::EnvironmentParams, horizon) == 16 && offsetof(gpu::EnvironmentParams, image) == 28 &&
+              offsetof(gpu::EnvironmentParams, ground) == 32 && offsetof(gpu::EnvironmentParams, rotation) == 44 &&
+              offsetof(gpu::EnvironmentParams, intensity) == 48 && offsetof(gpu::EnvironmentParams, visible) == 52 &&
+              offsetof(gpu::EnvironmentParams, shadowSamples) == 56 &&
+              offsetof(gpu::EnvironmentParams, distributionAddress) == 64 &&
+              offsetof(gpu::EnvironmentParams, imageSize) == 72);
+static_assert(sizeof(gpu::FrameParams) == 288 && offsetof(gpu::FrameParams, eye) == 0 &&
               offsetof(gpu::FrameParams, projection) == 12 &&
               offsetof(gpu::FrameParams, forward) == 16 && offsetof(gpu::FrameParams, apertureRadius) == 28 &&
               offsetof(gpu::FrameParams, right) == 32 && offsetof(gpu::FrameParams, focusDistance) == 44 &&
@@ -75,7 +82,8 @@ static_assert(sizeof(gpu::FrameParams) == 208 && offsetof(gpu::FrameParams, eye)
               offsetof(gpu::FrameParams, outputAddress) == 176 &&
               offsetof(gpu::FrameParams, pixelListAddress) == 184 &&
               offsetof(gpu::FrameParams, guideAddress) == 192 &&
-              offsetof(gpu::FrameParams, sampleStatsAddress) == 200);
+              offsetof(gpu::FrameParams, sampleStatsAddress) == 200 &&
+              offsetof(gpu::FrameParams, environment) == 208);
 static_assert(sizeof(gpu::TileParams) == 80 && offsetof(gpu::TileParams, tileOrigin) == 0 &&
               offsetof(gpu::TileParams, tileSize) == 8 && offsetof(gpu::TileParams, firstSample) == 16 &&
               offsetof(gpu::TileParams, sampleCount) == 20 && offsetof(gpu::TileParams, patternSize) == 24 &&
@@ -569,6 +577,7 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
     g.materials = std::move(shading.materials);
     g.textures = std::move(shading.textures);
     g.lights = std::move(shading.lights);
+    g.environmentDistribution = std::move(shading.environment.distribution);
 
     GatheredPrimitives gathered = gatherPrimitives(scene, settings, parts, g);
     BoundedSplit split = splitBounded(gathered, settings.useBvh);
@@ -582,6 +591,13 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
     source.insert(source.end(), split.unbounded.begin(), split.unbounded.end());
     placePrimitives(gathered, std::move(source), g);
     packFrameParams(scene, settings, treeCount, split.unbounded.size(), g);
+    g.params.environment = shading.environment.params;
+    if (settings.transparentBackground) g.params.environment.visible = 0u;
+    if (settings.uniformEnvironmentSampling && !g.environmentDistribution.empty()) {
+        glm::uvec2 size = g.params.environment.imageSize;
+        std::vector<float> flat(size_t(size.x) * size.y, 1.0f);
+        g.environmentDistribution = environmentDistribution(int(size.x), int(size.y), flat);
+    }
     return g;
 }
 
@@ -598,6 +614,7 @@ GpuShading packShading(const Scene& scene) {
     }
     for (const Material& m : csg.materials) g.materials.push_back(packMaterial(m, g.textures));
     for (const Light& light : scene.lights) g.lights.push_back(packLight(light));
+    g.environment = packEnvironment(scene, g.textures);
     return g;
 }
 

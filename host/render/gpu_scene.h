@@ -3,6 +3,7 @@
 
 #include "accel/bvh.h"
 #include "device_types.h"
+#include "render/gpu_environment.h"
 #include "render/render_settings.h"
 #include "io/texture.h"
 #include "scene/scene.h"
@@ -31,6 +32,8 @@ struct GpuScene {
     std::vector<uint32_t> primitiveInObject;
     // The images of the kBindingTextures array, by slot (Material.diffuseTexture, normalMap).
     std::vector<std::shared_ptr<const TextureData>> textures;
+    // An image environment's importance-sampling distribution (FrameParams.environment), else empty.
+    std::vector<float> environmentDistribution;
     BvhStats bvhStats;
     gpu::FrameParams params{};
     int width = 0;
@@ -81,6 +84,7 @@ struct GpuShading {
     std::vector<gpu::Material> materials;
     std::vector<std::shared_ptr<const TextureData>> textures;
     std::vector<gpu::Light> lights;
+    GpuEnvironment environment;  // its image, if any, is the last of `textures`
 };
 GpuShading packShading(const Scene& scene);
 

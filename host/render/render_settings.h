@@ -52,6 +52,9 @@ struct RenderSettings {
     // With auxiliary: the object and material masks' layer (the id of what
     // the pixel-centre ray hits; README "Auxiliary images").
     bool ids = false;
+    // --background transparent: camera rays do not see the environment (its light, reflections and
+    // refractions stay), and the auxiliary layers are made, whose hit mask is the image's alpha.
+    bool transparentBackground = false;
     bool useBvh = true;       // false: test every primitive (reference for tests)
     TracePath trace = TracePath::Auto;
     uint32_t seed = 0;        // decorrelates sample patterns between renders
@@ -70,6 +73,9 @@ struct RenderSettings {
     // Sample every texture at its full-resolution level instead of the
     // ray-cone level (tests of the filtering, shaders/texture.glsl).
     bool textureLodZero = false;
+    // Draw an image environment's light directions uniformly over the sphere instead of by its luminance
+    // (render/gpu_environment.h): what importance sampling gains is measured against this.
+    bool uniformEnvironmentSampling = false;
     // Auto: as suits the device. Tests force each way and compare the images.
     SceneReads sceneReads = SceneReads::Auto;
     // A build of the tracer without the code the scene does not use (csg

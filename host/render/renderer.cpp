@@ -116,7 +116,8 @@ Renderer::Renderer(VulkanContext& ctx, const Scene& scene, const RenderSettings&
     bool ids = settings.auxiliary && settings.ids;
     layerCount_ = settings.auxiliary ? gpu::kAovCount + 2 * uint32_t(settings.aovBounces) + (ids ? 1 : 0) : 1;
     layout_ = {.fullWidth = scene_.width, .fullHeight = scene_.height,
-               .region = regionFor(settings, scene_.width, scene_.height), .layerCount = layerCount_, .ids = ids};
+               .region = regionFor(settings, scene_.width, scene_.height), .layerCount = layerCount_, .ids = ids,
+               .environment = scene_.params.environment.kind != gpu::kEnvironmentNone};
 
     // Bands of whole rows of the region, as many rows as bandBytes pays for
     // (output layers, plus the adaptive pass's list, statistics and guide),
@@ -241,6 +242,9 @@ void Renderer::uploadScene() {
     deviceBytes_ += lights_.size;
     upload(csgNodes_, scene_.csgNodes, "CSG nodes");
     deviceBytes_ += csgNodes_.size;
+    upload(environmentDistribution_, scene_.environmentDistribution, "environment distribution values");
+    deviceBytes_ += environmentDistribution_.size;
+    scene_.params.environment.distributionAddress = addressWords(environmentDistribution_);
     glm::uvec2 p = addressWords(primitives_), n = addressWords(bvhNodes_);
     glm::uvec2 m = addressWords(materials_), l = addressWords(lights_);
     scene_.params.primitiveAddress = p;

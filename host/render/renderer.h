@@ -120,6 +120,7 @@ private:
     Buffer params_, primitives_, materials_, lights_, output_, bvhNodes_;
     MirroredBuffer counters_;  // gpu::RayCounters
     Buffer csgNodes_;  // the csg objects' programs (FrameParams.csgNodeAddress)
+    Buffer environmentDistribution_;  // an image environment's (FrameParams.environment.distributionAddress)
     Buffer attributes_;     // gpu::SurfaceAttributes per primitive, when a textured mesh needs them
     TextureSet textures_;   // the kBindingTextures array
     // What textures_ holds (kept alive, so a pointer compares as the texture),

@@ -71,6 +71,17 @@ void frameModel(Scene& scene, bool placeCamera, bool addLightsAndFloor) {
     floor.material.ambient = 0.1;
     floor.material.diffuse = 0.8;
     scene.objects.push_back(floor);
+
+    // A neutral environment (scenes/README.md "Quick looks"): a grey sky, lighter at the horizon, over a
+    // darker ground, seen behind the model and in its mirrors and glass (a chrome model reflects a world, not
+    // black) but lighting nothing, so that the two lights above alone set the exposure and the look stays quick.
+    Environment world;
+    world.kind = Environment::Kind::Gradient;
+    world.zenith = glm::dvec3(0.45, 0.48, 0.52);
+    world.horizon = glm::dvec3(0.8);
+    world.ground = glm::dvec3(0.25);
+    world.shadowSamples = 0;
+    scene.environment = world;
 }
 
 }  // namespace

@@ -2,6 +2,8 @@
 // uploads. Plain data, world space, right-handed, no GPU types.
 #pragma once
 
+#include "scene/environment.h"
+
 #include <glm/glm.hpp>
 
 #include <array>
@@ -281,6 +283,7 @@ struct Scene {
     std::filesystem::path sourcePath;
     Camera camera;
     glm::dvec3 ambientLight{1, 1, 1};  // A
+    std::optional<Environment> environment;  // none: a ray that leaves the scene sees black
     std::vector<Light> lights;
     std::vector<Object> objects;
     std::vector<std::string> warnings;  // degenerate but legal input

@@ -2,6 +2,7 @@
 
 #include "io/texture_file.h"
 #include "scene/camera_matrices.h"
+#include "scene/environment_reader.h"
 #include "scene/mesh_objects.h"
 #include "scene/xml_reader.h"
 
@@ -110,8 +111,11 @@ public:
             if (const XMLText* text = node->ToText(); text && !trimmed(text->Value()).empty())
                 diag_.fail(text, "unexpected text " + inQuotes(trimmed(text->Value())) + " outside <scene>");
 
-        ElementReader s(diag_, root, {{"camera"}, {"lights"}, {"objects"}, {"ambient_light"}});
+        ElementReader s(diag_, root, {{"camera"}, {"lights"}, {"objects"}, {"ambient_light"}, {"environment"}});
         scene_.camera = readCamera(s.required("camera"));
+        // The environment before the lights: one that gives light makes a scene without lights no mistake.
+        if (const XMLElement* environment = s.optional("environment"))
+            scene_.environment = readEnvironment(diag_, environment, scene_.sourcePath.parent_path());
         readLights(s.required("lights"));
         readObjects(s.required("objects"));
         if (const XMLElement* ambient = s.optional("ambient_light"))
@@ -202,7 +206,9 @@ private:
     void readLights(const XMLElement* e) {
         ElementReader lights(diag_, e, {{"light", true}});
         for (const XMLElement* light : lights.all("light")) scene_.lights.push_back(readLight(light));
-        if (scene_.lights.empty()) diag_.warn(e, "scene has no lights; only ambient light will show");
+        bool environmentLight = scene_.environment && scene_.environment->shadowSamples > 0;
+        if (scene_.lights.empty() && !environmentLight)
+            diag_.warn(e, "scene has no lights; only ambient light will show");
     }
 
     // A point light (the seed's), a spot or a directional light

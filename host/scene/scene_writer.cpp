@@ -316,11 +316,16 @@ std::string sceneXml(const Scene& scene, const std::filesystem::path& destinatio
     x.open("scene");
     writeCamera(x, scene.camera);
     x.colour("ambient_light", scene.ambientLight);
+    FilePlaces places{scene.sourcePath.parent_path(), destination};
+    if (const std::optional<Environment>& env = scene.environment) {
+        std::string image = env->image ? textureText(TextureRef{env->imageWritten, env->image}, places) : "";
+        std::istringstream lines(environmentXml(*env, image, 0));
+        for (std::string line; std::getline(lines, line);) x.line(line);
+    }
     x.open("lights");
     for (const Light& l : scene.lights) writeLight(x, l);
     x.close("lights");
     x.open("objects");
-    FilePlaces places{scene.sourcePath.parent_path(), destination};
     for (const Object& o : scene.objects) writeObject(x, o, places);
     x.close("objects");
     x.close("scene");
@@ -375,6 +380,11 @@ void writeFilelessTextures(Scene& scene, const std::filesystem::path& output) {
             if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-') c = '_';
         material(object.material, label);
         if (Csg* csg = std::get_if<Csg>(&object.shape)) children(*csg, label);
+    }
+    if (scene.environment && scene.environment->image) {
+        TextureRef image{scene.environment->imageWritten, scene.environment->image};
+        extract(image, "environment", "image");
+        scene.environment->imageWritten = image.written;
     }
 }
 

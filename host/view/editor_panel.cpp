@@ -302,6 +302,27 @@ static bool editCameraLens(Camera& c) {
     return changed;
 }
 
+// The environment (scenes/README.md "Environment"): its colours, rotation,
+// intensity, visibility and shadow samples; its kind and image stay.
+static bool editEnvironment(Environment& e) {
+    bool changed = false;
+    if (e.kind == Environment::Kind::Color) changed |= editColour("colour", e.color, true);
+    if (e.kind == Environment::Kind::Gradient) {
+        changed |= editColour("zenith", e.zenith, true);
+        changed |= editColour("horizon", e.horizon, true);
+        changed |= editColour("ground", e.ground, true);
+    }
+    changed |= editScalar("rotation", e.rotationDegrees, -360, 360);
+    changed |= editScalar("intensity", e.intensity, 0, 16);
+    changed |= ImGui::Checkbox("seen by the camera", &e.visible);
+    int samples = e.shadowSamples;
+    if (ImGui::SliderInt("shadow samples", &samples, 0, 64)) {
+        e.shadowSamples = std::clamp(samples, 0, 256);
+        changed = true;
+    }
+    return changed;
+}
+
 EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
     EditorResult result;
     if (!state.visible) return result;
@@ -327,6 +348,8 @@ EditorResult drawEditorPanel(Scene& scene, EditorState& state) {
         result.changed = editObject(scene, state.selectedObject);
     else
         ImGui::TextDisabled("select a light or an object");
+    if (scene.environment && ImGui::CollapsingHeader("Environment"))
+        result.changed |= editEnvironment(*scene.environment);
     // The camera's lens last, so that it moves nothing above.
     ImGui::Separator();
     if (ImGui::CollapsingHeader("Camera lens")) result.lensChanged = editCameraLens(scene.camera);

@@ -36,8 +36,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The image files the scene's materials name (textures and normal maps),
-// resolved as the loader resolves them; hot reload watches them too.
+// The image files the scene's materials and environment name (textures,
+// normal maps, the panorama), resolved as the loader resolves them; hot
+// reload watches them too.
 std::vector<std::filesystem::path> textureFiles(const Scene& scene) {
     std::set<std::filesystem::path> files;
     for (const Object& o : scene.objects)
@@ -46,6 +47,10 @@ std::vector<std::filesystem::path> textureFiles(const Scene& scene) {
                 std::filesystem::path path(t->written);
                 files.insert(path.is_relative() ? scene.sourcePath.parent_path() / path : path);
             }
+    if (scene.environment && scene.environment->image && !scene.environment->imageWritten.empty()) {
+        std::filesystem::path path(scene.environment->imageWritten);  // the environment's image too
+        files.insert(path.is_relative() ? scene.sourcePath.parent_path() / path : path);
+    }
     return {files.begin(), files.end()};
 }
 

@@ -51,6 +51,16 @@ inline void checkScene(const Scene& scene) {
         checkVector(l.color);
         for (int i = 0; i < 3; ++i) check(l.color[i] >= 0);
     }
+    if (const std::optional<Environment>& e = scene.environment) {
+        for (const glm::dvec3& c : {e->color, e->zenith, e->horizon, e->ground}) {
+            checkVector(c);
+            for (int i = 0; i < 3; ++i) check(c[i] >= 0);
+        }
+        check(std::isfinite(e->intensity) && e->intensity >= 0);
+        check(std::abs(e->rotationDegrees) <= 360);
+        check(e->shadowSamples >= 0 && e->shadowSamples <= 256);
+        check((e->kind == Environment::Kind::Image) == (e->image != nullptr));
+    }
     for (const Object& o : scene.objects) {
         const Material& m = o.material;
         for (int i = 0; i < 3; ++i) {

@@ -55,6 +55,34 @@ std::string imageMap(const Material& m, const Shape& shape) {
     return "";
 }
 
+// The environment as what POV-Ray shows where rays leave the scene: a colour as `background`, a gradient
+// as a sky_sphere whose pigment is linear in y (a function pattern from -1 to 1 with the ground, horizon and
+// zenith colours at 0, 0.5 and 1), an image as a sky_sphere image_map (map_type 1: u from +x towards +z,
+// v up; turned by -90 degrees about y so that its centre looks along -z, then by our rotation, which is
+// POV-Ray's rotate y*degrees). None of them lights the scene (POV-Ray's sky lights nothing without
+// radiosity), and an image's intensity is not exported: povrayInexactMappings says so.
+std::string environmentSdl(const Scene& scene) {
+    if (!scene.environment) return "background { rgb 0 }\n";
+    const Environment& e = *scene.environment;
+    std::string visible = e.visible ? "" : "  // <visible>false</visible>: not exported\n";
+    switch (e.kind) {
+        case Environment::Kind::Color: return "background { rgb " + vec(e.color * e.intensity) + " }\n";
+        case Environment::Kind::Gradient:
+            return "sky_sphere {\n  pigment { function { y * 0.5 + 0.5 } color_map { [0 rgb " +
+                   vec(e.ground * e.intensity) + "] [0.5 rgb " + vec(e.horizon * e.intensity) + "] [1 rgb " +
+                   vec(e.zenith * e.intensity) + "] } }\n" + visible + "}\n";
+        case Environment::Kind::Image: break;
+    }
+    std::string path = e.image ? e.image->name : e.imageWritten;
+    std::string extension = path.substr(path.find_last_of('.') + 1);
+    std::transform(extension.begin(), extension.end(), extension.begin(),
+                   [](unsigned char c) { return std::tolower(c); });
+    std::string type = extension == "jpg" || extension == "jpeg" ? "jpeg" : extension == "tif" ? "tiff" : extension;
+    bool srgb = e.image && e.image->srgbDecoded;
+    return "sky_sphere {\n  pigment { image_map { " + type + " \"" + path + "\"" + (srgb ? " gamma srgb" : "") +
+           " interpolate 2 map_type 1 } rotate <0, " + num(e.rotationDegrees - 90.0) + ", 0> }\n" + visible + "}\n";
+}
+
 bool exportsTexture(const Material& m, const Shape& shape) {
     return m.diffuseTexture && !m.diffuseTexture.written.empty() &&
            (std::holds_alternative<Sphere>(shape) || std::holds_alternative<Mesh>(shape));
@@ -273,7 +301,7 @@ std::string exportPovray(const Scene& scene, const PovrayExportOptions& options)
       << "  max_trace_level " << options.maxDepth + 1 << "\n"
       << "  adc_bailout 0\n"
       << "}\n"
-      << "background { rgb 0 }\n\n";
+      << environmentSdl(scene) << "\n";
 
     // Our camera frame (host/render/gpu_scene.cpp): right = cross(forward,
     // up), up' = cross(right, forward), the window spanning
@@ -362,6 +390,15 @@ std::vector<std::string> povrayInexactMappings(const Scene& scene) {
                                 ": transmission (POV-Ray dims the local terms by the pigment's opacity and filters "
                                 "refracted light by the pigment; exported approximately, its shadows exactly)");
         }
+    }
+    if (const std::optional<Environment>& e = scene.environment) {
+        std::string at = scene.sourcePath.string() + ":" + std::to_string(e->sourceLine);
+        if (e->shadowSamples > 0)
+            notes.push_back(at + ": the environment's light (POV-Ray's background and sky_sphere light nothing; "
+                                 "not exported)");
+        if (!e->visible) notes.push_back(at + ": an environment hidden from the camera (not exported)");
+        if (e->kind == Environment::Kind::Image && e->intensity != 1.0)
+            notes.push_back(at + ": an environment image's intensity (not exported)");
     }
     for (const Light& light : scene.lights)
         if (light.type == Light::Type::Rect && !light.twoSided)

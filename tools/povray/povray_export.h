@@ -48,6 +48,15 @@
 //                      the plane at |focal_point - location| along the axis),
 //                      blur_samples PovrayExportOptions::blurSamples, all of
 //                      them traced (variance 0)
+//   environment        what rays that leave the scene see: a colour as
+//                      background, a gradient as a sky_sphere pigment
+//                      function { y * 0.5 + 0.5 } with the ground, horizon
+//                      and zenith colours at 0, 0.5 and 1, an image as a
+//                      sky_sphere image_map (map_type 1, rotate y by the
+//                      rotation - 90 degrees: its centre along -z). Not its
+//                      light (POV-Ray's sky lights nothing without
+//                      radiosity), nor <visible>false</visible>, nor an
+//                      image's intensity: povrayInexactMappings names them
 // What does not: glossy reflection and refraction (roughness): POV-Ray's
 // reflection and refraction are always sharp (its blurred reflection needs
 // a micro-normal pattern and averaged textures); exported as the mirror.
