@@ -112,6 +112,7 @@ private:
     uint32_t bandRows_ = 0;  // rows of the region per band
     Buffer params_, primitives_, materials_, lights_, output_, counters_, bvhNodes_;
     Buffer csgNodes_;  // the csg objects' programs (FrameParams.csgNodeAddress)
+    Buffer instances_;      // gpu::InstanceRecord per instance (FrameParams.instanceAddress), when the scene has any
     Buffer attributes_;     // gpu::SurfaceAttributes per primitive, when a textured mesh needs them
     TextureSet textures_;   // the kBindingTextures array
     // What textures_ holds (kept alive, so a pointer compares as the texture),
