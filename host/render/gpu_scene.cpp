@@ -607,7 +607,9 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
     GatheredPrimitives gathered = gatherPrimitives(scene, settings, parts, g);
     // Instances: their prototypes' trees, and their stand-ins as parts of the scene's BVH.
     uint32_t instanceMaterialBase = uint32_t(g.materials.size() - instanceMaterials(scene).size());
+    auto prototypesStart = std::chrono::steady_clock::now();
     PrototypePack prototypes = packPrototypes(scene, instanceMaterialBase, gathered.attributes);
+    double prototypeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - prototypesStart).count();
     size_t prototypeObjects = 0;
     for (const Prototype& p : scene.prototypes) prototypeObjects += p.objects.size();
     InstancePack instances = packInstances(scene, prototypes, instanceMaterialBase + uint32_t(prototypeObjects));
@@ -637,6 +639,10 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
             g.instancePrototypes.push_back(scene.instances[i].prototype);
         }
         g.instances = std::move(instances.records);
+        // The statistics count the prototypes' trees too (built once each, however many instances).
+        g.bvhStats.buildSeconds += prototypeSeconds;
+        g.bvhStats.wideNodeCount += uint32_t(nodes.size());
+        g.bvhStats.primitivesBuilt += prototypes.primitives.size();
         g.prototypeShapes = prototypes.shapes;
     }
     packFrameParams(scene, settings, treeCount, split.unbounded.size(), g);
