@@ -118,6 +118,8 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     bool blocked = !traverseList(ray, tMax, shadow, hit, transmittance, opticalDepth);
     if (blocked && !kShadowWalksAll) return false;
     if (kShapeMask == 0u || params.bvhNodeCount == 0u) return !blocked;
+    Ray worldRay = ray;  // in a prototype's tree (instance.glsl); the entries below instanceTop are the world's
+    int instanceTop = 0;
     float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
 
     vec3 invDir = safeInverse(ray.dir);
@@ -193,6 +195,10 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             }
             bool culled = false;
             if (entry == kNoEntry && top > 0) {
+                if (kSceneHasInstances && gWalkInstance != kNoInstance && top == instanceTop) {
+                    ray = leaveInstance(worldRay);
+                    invDir = safeInverse(ray.dir);
+                }
                 entry = stack[--top];
                 // Closest hit: a hit found since the push, nearer than the
                 // entry's box, culls it here rather than after a step (an
@@ -212,8 +218,15 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
             }
         }
         if (prim < primEnd) {
-            if (testPrimitive(prim, kShapeMask, ray, tMax, shadow, hit, transmittance, opticalDepth, tFrom,
-                              blocked)) ++prim;
+            if (kSceneHasInstances && primitives[prim].shape == kShapeInstance) {
+                children = enterInstance(prim, ray, worldRay);
+                invDir = safeInverse(ray.dir);
+                instanceTop = top;
+                prim = primEnd;
+            } else if (testPrimitive(prim, kShapeMask, ray, tMax, shadow, hit, transmittance, opticalDepth, tFrom,
+                                     blocked)) {
+                ++prim;
+            }
             if (blocked && !kShadowWalksAll) return false;
             running = true;
         }

@@ -27,7 +27,7 @@ void main() {
     Hit hit;
     CastHit result = CastHit(vec3(0.0), 0.0, vec2(0.0), kNoObject, kNoObject);
     if (traceClosest(ray, rays.v[i].tMax, hit)) {
-        Primitive prim = primitives[hit.primitive];
+        Primitive prim = hitPrimitive(hit);
         vec3 p = ray.origin + hit.t * ray.dir;
         SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, p, materials[prim.material].textureScale);
         // Member by member: glslang 12.0.0 (Debian 12) crashes on the constructor CastHit(...) here.

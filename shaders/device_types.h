@@ -85,6 +85,11 @@ WHITTED_CONST uint kShapeBox = 4;
 // array; its leaves are ordinary primitives kept after the BVH's and the
 // unbounded ones, so a hit reports the leaf primitive that was struck.
 WHITTED_CONST uint kShapeCsg = 5;
+// An instance of a prototype (shaders/instance.glsl): a stand-in in the
+// scene's BVH whose box is the instance's world box; reaching it, the walk
+// goes on in the prototype's own tree in object space. Only in the BVH;
+// a hit never reports it.
+WHITTED_CONST uint kShapeInstance = 6;
 
 // CSG limits (scenes/README.md "CSG"), set by the shader's fixed-size state in
 // intersectCsg (shaders/shapes/csg.glsl): each leaf's span along the ray is
@@ -259,6 +264,8 @@ WHITTED_FUNCTION uvec2 csgProgram(Primitive p) { return uvec2(p.extra0, p.extra1
 WHITTED_FUNCTION vec3 primitiveAnchor(Primitive p) { return vec3(p.a); }
 // The object a primitive (not a csg object) belongs to, as the object_id mask numbers it.
 WHITTED_FUNCTION uint primitiveObject(Primitive p) { return p.extra1; }
+// An instance's stand-in (kShapeInstance): its world box and its index into InstanceRecord[].
+WHITTED_FUNCTION uint primitiveInstance(Primitive p) { return p.extra0; }
 
 #ifdef __cplusplus
 // The host packs each shape through these (host/shapes/*.cpp).
@@ -296,6 +303,10 @@ inline Primitive csgPrimitive(vec3 boundsMin, vec3 boundsMax, uvec2 leaves, uvec
 // Moves a csg object's first leaf to `first` (the leaves' place in the whole primitive array).
 inline void setCsgFirstLeaf(Primitive& p, uint first) { p.a.w = glm::uintBitsToFloat(first); }
 inline void setPrimitiveObject(Primitive& p, uint object) { p.extra1 = object; }
+inline Primitive instancePrimitive(vec3 boundsMin, vec3 boundsMax, uint instance, uint object) {
+    return {.a = vec4(boundsMin, 0.0f), .b = vec4(boundsMax, 0.0f), .shape = kShapeInstance, .extra0 = instance,
+            .extra1 = object};
+}
 #endif
 
 // Material.flags bits.
@@ -424,6 +435,30 @@ struct CsgNode {
     uint pad1 WHITTED_ZERO;
 };
 
+// One instance of a prototype (Scene::instances; shaders/instance.glsl): its
+// affine transforms as the rows of 3x4 matrices (xyz the linear part, w the
+// translation), the root of its prototype's tree in BvhNode[] (the
+// prototype's nodes and primitives follow the scene's own), the object id
+// the masks give it, a material replacing its prototype's, or
+// kNoMaterialOverride, and where the prototype's primitives start. A negative determinant of the linear part (a
+// mirroring instance) needs nothing special: normals go through the inverse
+// transpose, which keeps a closed mesh's outward side outward, as the
+// loader's flattened copy keeps it by turning the winding over.
+WHITTED_CONST uint kNoMaterialOverride = 0xffffffffu;
+WHITTED_CONST uint kNoInstance = 0xffffffffu;
+struct InstanceRecord {
+    vec4 worldFromObject0 WHITTED_ZERO;
+    vec4 worldFromObject1 WHITTED_ZERO;
+    vec4 worldFromObject2 WHITTED_ZERO;
+    vec4 objectFromWorld0 WHITTED_ZERO;
+    vec4 objectFromWorld1 WHITTED_ZERO;
+    vec4 objectFromWorld2 WHITTED_ZERO;
+    uint rootNode WHITTED_ZERO;
+    uint object WHITTED_ZERO;    // the object_id mask's index
+    uint material WHITTED_ZERO;  // kNoMaterialOverride: the prototype's own
+    uint firstPrimitive WHITTED_ZERO;  // the prototype's first in Primitive[] (ray queries: its BLAS's primitive 0)
+};
+
 // FrameParams.projection: how camera rays leave the eye (shaders/camera.glsl).
 WHITTED_CONST uint kProjectionPerspective = 0u;
 WHITTED_CONST uint kProjectionOrthographic = 1u;
@@ -491,6 +526,8 @@ struct FrameParams {
     uvec2 guideAddress WHITTED_ZERO;        // uvec4[]: the adaptive guide
     uvec2 sampleStatsAddress WHITTED_ZERO;  // uvec4[]: the sample statistics of the list's pixels
     EnvironmentParams environment WHITTED_ZERO;  // kind kEnvironmentNone: the background is black
+    uvec2 instanceAddress WHITTED_ZERO;  // InstanceRecord[], 0 when the scene has no instances
+    uvec2 pad6 WHITTED_ZERO;
 };
 
 // Object id of a sample that hit nothing.

@@ -29,6 +29,8 @@ layout(constant_id = kSpecShapeMask) const uint kShapeMask = 0x3fu;
 // is no BVH).
 layout(constant_id = kSpecListShapeMask) const uint kListShapeMask = 0x3fu;
 
+#include "instance.glsl"
+
 // intersectPrimitive on primitives[i] for a scene whose shapes are `mask`,
 // loading only the words the shape uses (lavapipe gathers each loaded word
 // lane by lane: a whole Primitive is sixteen, a sphere four); with one
@@ -82,7 +84,7 @@ const bool kShadowWalksAll = false;
 // crossing's share of the signed optical depth (see traceQuery).
 // Returns false when the surface is opaque.
 bool shadowCrossing(uint i, Ray ray, float t, vec3 n, inout vec3 transmittance, inout vec3 opticalDepth) {
-    uint k = primitives[i].material;
+    uint k = instanceMaterial(gWalkInstance, i);
     float kt = kSceneHasTransparency ? materials[k].kt : 0.0;
     bool opaque = kt <= 0.0;
     vec3 filterColour = vec3(0.0), depth = vec3(0.0);
@@ -115,6 +117,7 @@ void testCsg(uint i, Ray ray, float tMax, const bool shadow, inout Hit hit, inou
         if (intersectCsg(i, ray, 0.0, hit.t, n, leaf)) {
             hit.normal = n;
             hit.primitive = leaf;
+            if (kSceneHasInstances) hit.instance = kNoInstance;
         }
         return;
     }
@@ -149,6 +152,7 @@ bool testPrimitive(uint i, const uint mask, Ray ray, float tMax, const bool shad
         if (intersectPrimitiveAt(i, mask, ray, 0.0, hit.t, n)) {
             hit.normal = n;
             hit.primitive = i;
+            if (kSceneHasInstances) hit.instance = gWalkInstance;  // in object space there (instance.glsl)
         }
         return true;
     }
@@ -172,6 +176,7 @@ bool traverseList(Ray ray, float tMax, const bool shadow, inout Hit hit, inout v
                   inout vec3 opticalDepth) {
     float tFrom = 0.0;  // shadow rays: a second crossing of the same primitive starts here
     bool blocked = false;
+    if (kSceneHasInstances) gWalkInstance = kNoInstance;  // the walks after the list start at the world's level
     if (kListShapeMask != 0u) {
         uint i = params.firstListPrimitive, end = params.firstListPrimitive + params.listPrimitiveCount;
         while (i < end) {
@@ -197,8 +202,10 @@ bool traceClosest(Ray ray, float tMax, out Hit hit) {
     hit.t = tMax;
     hit.normal = vec3(0.0);
     hit.primitive = 0xffffffffu;
+    hit.instance = kNoInstance;
     vec3 unused = vec3(1.0), unusedDepth = vec3(0.0);
     traverseScene(ray, tMax, false, hit, unused, unusedDepth);
+    if (kSceneHasInstances && hit.instance != kNoInstance) hit.normal = instanceNormal(hit.instance, hit.normal);
     return hit.primitive != 0xffffffffu;
 }
 
@@ -229,8 +236,10 @@ bool traceQuery(Ray ray, float tMax, bool shadow, out Hit hit, out vec3 visibili
     hit.t = tMax;
     hit.normal = vec3(0.0);
     hit.primitive = 0xffffffffu;
+    hit.instance = kNoInstance;
     vec3 transmittance = vec3(1.0), opticalDepth = vec3(0.0);
     bool open = traverseScene(ray, tMax, shadow, hit, transmittance, opticalDepth);
+    if (kSceneHasInstances && hit.instance != kNoInstance) hit.normal = instanceNormal(hit.instance, hit.normal);
     if (kHasAbsorption) transmittance *= exp(-max(opticalDepth, vec3(0.0)));
     visibility = open ? transmittance : vec3(0.0);
     return !shadow && hit.primitive != 0xffffffffu;

@@ -14,6 +14,7 @@ struct Hit {
     float t;
     vec3 normal;
     uint primitive;
+    uint instance;  // the instance whose prototype holds it (normal already in world space), or kNoInstance
 };
 
 // Texture coordinates at a surface point (scenes/README.md "Textures") and their

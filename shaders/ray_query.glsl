@@ -23,9 +23,26 @@
 // are built with NO_DUPLICATE_ANY_HIT, so each primitive comes once; the
 // first opaque crossing ends the query. Without transparency a shadow ray
 // stops at the first hit of any kind.
+//
+// Instances (shaders/instance.glsl): each prototype is a BLAS of its
+// triangles, each instance a TLAS instance of it under its transform, its
+// custom index 1 + the instance's (0: the scene's own BLASes). A candidate
+// in an instance is primitive firstPrimitive + its index, tested and
+// filtered against the ray in the instance's object space, as the BVH walk
+// does (the driver's t is the same number in both spaces).
 #ifndef WHITTED_RAY_QUERY_GLSL
 #define WHITTED_RAY_QUERY_GLSL
 #include "scene.glsl"  // sceneTlas
+
+// The instance of a candidate or committed hit from its TLAS instance's
+// custom index, or kNoInstance; i moves from the BLAS's index to the
+// primitive array's.
+uint queryInstance(int custom, inout uint i) {
+    if (!kSceneHasInstances || custom == 0) return kNoInstance;
+    uint k = uint(custom - 1);
+    i += instanceRecords[k].firstPrimitive;
+    return k;
+}
 
 bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout vec3 transmittance,
                    inout vec3 opticalDepth) {
@@ -33,7 +50,7 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     if (blocked && !kShadowWalksAll) return false;
     if (kShapeMask == 0u) return !blocked;
     // The shapes in the AABB BLAS.
-    const uint boxMask = kShapeMask & ~(1u << kShapeTriangle);
+    const uint boxMask = kShapeMask & ~((1u << kShapeTriangle) | (1u << kShapeInstance));
     // Shadow rays look at every candidate with transparency, and in the
     // recorder's build, which writes each crossing down (kShadowWalksAll).
     const bool filtering = shadow && (kSceneHasTransparency || kShadowWalksAll);
@@ -45,6 +62,8 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     uint boxPrimitive = 0u;      // and its primitive: a csg object's leaf struck
     while (rayQueryProceedEXT(query)) {
         uint i = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, false));
+        if (kSceneHasInstances)
+            gWalkInstance = queryInstance(rayQueryGetIntersectionInstanceCustomIndexEXT(query, false), i);
         bool box = rayQueryGetIntersectionTypeEXT(query, false) == gl_RayQueryCandidateIntersectionAABBEXT;
         // A triangle's stand-in in the AABB structure (an empty box at a
         // vertex, host/accel/acceleration_structure.cpp) is no candidate.
@@ -68,11 +87,12 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
                     blocked = blocked || opaque;
                 }
             } else if (!box) {
-                // The winding's normal, as intersectTriangle gives it.
+                // The winding's normal, as intersectTriangle gives it (in an instance, in object space).
+                Ray r = kSceneHasInstances && gWalkInstance != kNoInstance ? objectRay(gWalkInstance, ray) : ray;
                 Primitive p = primitives[i];
                 vec3 a = triangleV0(p);
                 n = cross(triangleV1(p) - a, triangleV2(p) - a);
-                blocked = !shadowCrossing(i, ray, rayQueryGetIntersectionTEXT(query, false), n, transmittance,
+                blocked = !shadowCrossing(i, r, rayQueryGetIntersectionTEXT(query, false), n, transmittance,
                                           opticalDepth) || blocked;
             }
             if (blocked && !kShadowWalksAll) rayQueryTerminateEXT(query);
@@ -103,6 +123,9 @@ bool traverseScene(Ray ray, float tMax, const bool shadow, inout Hit hit, inout 
     if (shadow) return false;
     uint i = uint(rayQueryGetIntersectionPrimitiveIndexEXT(query, true));
     hit.t = rayQueryGetIntersectionTEXT(query, true);
+    // A prototype's triangle: its normal in object space, turned into the
+    // world's by traceQuery (hit.instance).
+    if (kSceneHasInstances) hit.instance = queryInstance(rayQueryGetIntersectionInstanceCustomIndexEXT(query, true), i);
     hit.primitive = i;
     if (committed == gl_RayQueryCommittedIntersectionTriangleEXT) {
         Primitive p = primitives[i];

@@ -195,6 +195,7 @@ void applyTextures(inout ShadedHit h, Primitive prim, Hit hit, vec3 dir) {
     uvec4 slots = uvec4(h.m.diffuseTexture, h.m.normalMap, h.m.emissionTexture, h.m.roughnessTexture);
     if (any(notEqual(slots, uvec4(kNoTexture)))) {
         SurfaceUv s = surfaceUv(prim, hit.primitive, hit.normal, h.p, h.m.textureScale);
+        if (kSceneHasInstances && hit.instance != kNoInstance) s.tangent = instanceVector(hit.instance, s.tangent);
         float cosine = abs(dot(dir, h.n));
         if (slots.x != kNoTexture)
             h.m.diffuse *= textureColor(slots.x, s.uv, rayConeLod(slots.x, s, h.coneWidth, cosine));
@@ -221,7 +222,7 @@ void applyTextures(inout ShadedHit h, Primitive prim, Hit hit, vec3 dir) {
 // The surface that pending's ray hit, in h. A pinhole ray only adds its
 // auxiliary layers: false for it, as there is nothing to shade.
 bool surfaceAt(inout PendingRay pending, Hit hit, bool lens, out ShadedHit h, inout SampleResult result) {
-    Primitive prim = primitives[hit.primitive];
+    Primitive prim = hitPrimitive(hit);
     Ray ray = pending.ray;
     h.m = loadMaterial(prim.material);
     h.material = prim.material;
@@ -301,7 +302,8 @@ bool shadeHit(inout PendingRay pending, bool probing, SampleWalk s, out ShadedHi
             break;
 #endif
             if (probing) {  // the probe takes the ids of what it hit, nothing else
-                ids = uvec2(primitiveObject(primitives[hit.primitive]), primitives[hit.primitive].material);
+                Primitive prim = hitPrimitive(hit);
+                ids = uvec2(primitiveObject(prim), prim.material);
                 break;
             }
             if (!surfaceAt(pending, hit, s.lens, h, result)) break;

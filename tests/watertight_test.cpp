@@ -113,8 +113,15 @@ Tris torus(double major, double minor, int n, int m) {
     return t;
 }
 
-// Pixels whose primary ray hits nothing, from `eye` looking at `at`.
-int escapes(const Tris& mesh, glm::dvec3 eye, glm::dvec3 at, TracePath trace, int size) {
+// Pixels whose primary ray hits nothing, from `eye` looking at `at`. With
+// `instance`, the mesh is a prototype drawn by one instance of that
+// transform (scene/scene.h Instance), and eye and at go through it too.
+int escapes(const Tris& mesh, glm::dvec3 eye, glm::dvec3 at, TracePath trace, int size,
+            const glm::dmat4* instance = nullptr) {
+    if (instance) {
+        eye = glm::dvec3(*instance * glm::dvec4(eye, 1.0));
+        at = glm::dvec3(*instance * glm::dvec4(at, 1.0));
+    }
     Scene scene;
     scene.camera.eye = eye;
     scene.camera.windowCenter = at;
@@ -125,7 +132,12 @@ int escapes(const Tris& mesh, glm::dvec3 eye, glm::dvec3 at, TracePath trace, in
     m.triangles = mesh;
     Object o;
     o.shape = m;
-    scene.objects.push_back(o);
+    if (instance) {
+        scene.prototypes.push_back({.name = "mesh", .objects = {o}});
+        scene.instances.push_back({.prototype = 0, .worldFromObject = *instance});
+    } else {
+        scene.objects.push_back(o);
+    }
     RenderSettings s{.width = size, .height = size, .samplesPerPixel = 1, .maxDepth = 0, .auxiliary = true,
                      .trace = trace};
     RenderResult r = renderScene(scene, s);
@@ -140,9 +152,10 @@ struct View {
     glm::dvec3 eye, at;
 };
 
-void expectClosed(const Tris& mesh, const std::vector<View>& views, TracePath trace) {
+void expectClosed(const Tris& mesh, const std::vector<View>& views, TracePath trace,
+                  const glm::dmat4* instance = nullptr) {
     for (const View& v : views)
-        EXPECT_EQ(escapes(mesh, v.eye, v.at, trace, 160), 0)
+        EXPECT_EQ(escapes(mesh, v.eye, v.at, trace, 160, instance), 0)
             << "eye (" << v.eye.x << ", " << v.eye.y << ", " << v.eye.z << ") towards (" << v.at.x << ", " << v.at.y
             << ", " << v.at.z << ")";
 }
@@ -182,6 +195,23 @@ TEST(Watertight, ClosedMeshesSeenFromInsideThroughTheBvh) {
     expectClosed(odd, oddViews, TracePath::Bvh);
     expectClosed(icosphere({0, 0, 0}, 1.0, 4), sphereViews(), TracePath::Bvh);
     expectClosed(torus(2.0, 0.5, 64, 32), torusViews(), TracePath::Bvh);
+}
+
+// The cube as a prototype, drawn by an instance rotated, scaled
+// non-uniformly, mirrored and moved off round numbers: the walk tests the
+// prototype's boxes and triangles against the ray carried into object
+// space (shaders/instance.glsl), where the cube's faces lie on its nodes'
+// grid planes again. The eyes go through the transform and back in float,
+// so only those at least 1e-4 inside a face are kept.
+TEST(Watertight, ClosedMeshesSeenFromInsideAnInstanceThroughTheBvh) {
+    glm::dmat4 m(glm::dvec4(0.0, 1.3, 0.2, 0.0), glm::dvec4(-0.9, 0.0, 0.1, 0.0), glm::dvec4(0.1, -0.2, -1.7, 0.0),
+                 glm::dvec4(0.1234567, -3.7654321, 12.5, 1.0));
+    ASSERT_LT(glm::determinant(glm::dmat3(m)), 0.0);
+    std::vector<View> views;
+    for (View v : cubeViews())
+        if (glm::all(glm::greaterThanEqual(glm::min(v.eye, 1.0 - v.eye), glm::dvec3(1e-4)))) views.push_back(v);
+    ASSERT_GE(views.size(), 6u);
+    expectClosed(kCube, views, TracePath::Bvh, &m);
 }
 
 TEST(Watertight, ClosedMeshesSeenFromInsideThroughRayQueries) {

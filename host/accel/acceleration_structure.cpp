@@ -123,8 +123,8 @@ Buffer boxInputs(VulkanContext& ctx, std::span<const gpu::Primitive> bounded) {
     uint32_t count = uint32_t(bounded.size());
     std::vector<vk::AabbPositionsKHR> a(count);
     for (uint32_t i = 0; i < count; ++i) {
-        if (bounded[i].shape == gpu::kShapeTriangle) {
-            glm::vec3 v = gpu::triangleV0(bounded[i]);
+        if (bounded[i].shape == gpu::kShapeTriangle || bounded[i].shape == gpu::kShapeInstance) {
+            glm::vec3 v = gpu::primitiveAnchor(bounded[i]);
             a[i] = vk::AabbPositionsKHR{v.x, v.y, v.z, v.x, v.y, v.z};
             continue;
         }
@@ -135,9 +135,23 @@ Buffer boxInputs(VulkanContext& ctx, std::span<const gpu::Primitive> bounded) {
 }
 
 // The top level's input: one instance per bottom level built, identity
-// transform. `count` is set to the number of instances.
-Buffer instanceInputs(VulkanContext& ctx, const SceneAccelerationStructures& bottom, uint32_t& count) {
+// transform, custom index 0; then one per scene instance, its prototype's
+// structure under its transform, custom index 1 + its index. `count` is set
+// to the number of instances.
+Buffer instanceInputs(VulkanContext& ctx, const SceneAccelerationStructures& bottom, const SceneInstances& scene,
+                      uint32_t& count) {
     std::vector<vk::AccelerationStructureInstanceKHR> instances;
+    for (size_t i = 0; i < scene.records.size(); ++i) {
+        const gpu::InstanceRecord& r = scene.records[i];
+        vk::AccelerationStructureInstanceKHR instance{};
+        const gpu::vec4* rows[3] = {&r.worldFromObject0, &r.worldFromObject1, &r.worldFromObject2};
+        for (int row = 0; row < 3; ++row)
+            for (int col = 0; col < 4; ++col) instance.transform.matrix[row][col] = (*rows[row])[col];
+        instance.instanceCustomIndex = uint32_t(i + 1);
+        instance.mask = 0xff;
+        instance.accelerationStructureReference = bottom.prototypes[scene.instancePrototypes[i]].address;
+        instances.push_back(instance);
+    }
     for (const AccelerationStructure* s : {&bottom.triangles, &bottom.boxes})
         if (s->address) {
             vk::AccelerationStructureInstanceKHR instance{};
@@ -150,6 +164,21 @@ Buffer instanceInputs(VulkanContext& ctx, const SceneAccelerationStructures& bot
     return createDeviceBuffer(ctx, instances.empty() ? nullptr : instances.data(),
                               std::max<size_t>(instances.size(), 1) * sizeof(vk::AccelerationStructureInstanceKHR),
                               kBuildInput);
+}
+
+// A BLAS of `count` triangles, three vertices each at `vertices`.
+vk::AccelerationStructureGeometryKHR triangleGeometry(const Buffer& vertices, uint32_t count) {
+    return vk::AccelerationStructureGeometryKHR{
+        .geometryType = vk::GeometryTypeKHR::eTriangles,
+        .geometry = {.triangles = vk::AccelerationStructureGeometryTrianglesDataKHR{
+                         .vertexFormat = vk::Format::eR32G32B32Sfloat,
+                         .vertexData = {.deviceAddress = vertices.address},
+                         .vertexStride = sizeof(glm::vec3),
+                         .maxVertex = 3 * count - 1,
+                         .indexType = vk::IndexType::eNoneKHR}},
+        // Opaque: closest hits are committed by the driver; shadow rays
+        // through glass ask for every candidate (gl_RayFlagsNoOpaqueEXT).
+        .flags = vk::GeometryFlagBitsKHR::eOpaque | vk::GeometryFlagBitsKHR::eNoDuplicateAnyHitInvocation};
 }
 
 // Bottom levels together, then the top level (the last build), then the
@@ -187,7 +216,8 @@ void recordBuilds(VulkanContext& ctx, const std::vector<Build>& builds) {
 
 }  // namespace
 
-SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std::span<const gpu::Primitive> bounded) {
+SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std::span<const gpu::Primitive> bounded,
+                                                        const SceneInstances& sceneInstances) {
     auto start = std::chrono::steady_clock::now();
     auto props = ctx.physicalDevice.getProperties2<vk::PhysicalDeviceProperties2,
                                                    vk::PhysicalDeviceAccelerationStructurePropertiesKHR>();
@@ -199,27 +229,28 @@ SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std:
     // each over every primitive so that the query's primitive index is the
     // Primitive's.
     bool anyTriangle = false, anyBox = false;
-    for (const gpu::Primitive& p : bounded) (p.shape == gpu::kShapeTriangle ? anyTriangle : anyBox) = true;
+    for (const gpu::Primitive& p : bounded)
+        if (p.shape != gpu::kShapeInstance) (p.shape == gpu::kShapeTriangle ? anyTriangle : anyBox) = true;
     Buffer vertices, boxes;
     SceneAccelerationStructures result;
     std::vector<Build> builds;
-    builds.reserve(3);  // the builds' infos point at their geometry: no reallocation
+    // The builds' infos point at their geometry: no reallocation.
+    builds.reserve(3 + sceneInstances.prototypeRanges.size());
     constexpr auto kNoDuplicates = vk::GeometryFlagBitsKHR::eNoDuplicateAnyHitInvocation;
     if (anyTriangle) {
         vertices = triangleInputs(ctx, bounded);
         Build& b = builds.emplace_back();
-        b.geometry = vk::AccelerationStructureGeometryKHR{
-            .geometryType = vk::GeometryTypeKHR::eTriangles,
-            .geometry = {.triangles = vk::AccelerationStructureGeometryTrianglesDataKHR{
-                             .vertexFormat = vk::Format::eR32G32B32Sfloat,
-                             .vertexData = {.deviceAddress = vertices.address},
-                             .vertexStride = sizeof(glm::vec3),
-                             .maxVertex = 3 * count - 1,
-                             .indexType = vk::IndexType::eNoneKHR}},
-            // Opaque: closest hits are committed by the driver; shadow rays
-            // through glass ask for every candidate (gl_RayFlagsNoOpaqueEXT).
-            .flags = vk::GeometryFlagBitsKHR::eOpaque | kNoDuplicates};
+        b.geometry = triangleGeometry(vertices, count);
         result.triangles = prepare(ctx, b, vk::AccelerationStructureTypeKHR::eBottomLevel, count, scratchAlignment);
+    }
+    // Each prototype's triangles (all of them triangles), indexed from its first.
+    std::vector<Buffer> prototypeVertices;
+    for (glm::uvec2 range : sceneInstances.prototypeRanges) {
+        prototypeVertices.push_back(triangleInputs(ctx, sceneInstances.primitives.subspan(range.x, range.y)));
+        Build& b = builds.emplace_back();
+        b.geometry = triangleGeometry(prototypeVertices.back(), range.y);
+        result.prototypes.push_back(
+            prepare(ctx, b, vk::AccelerationStructureTypeKHR::eBottomLevel, range.y, scratchAlignment));
     }
     if (anyBox) {
         boxes = boxInputs(ctx, bounded);
@@ -233,7 +264,7 @@ SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std:
     }
 
     uint32_t instanceCount = 0;
-    Buffer instanceBuffer = instanceInputs(ctx, result, instanceCount);
+    Buffer instanceBuffer = instanceInputs(ctx, result, sceneInstances, instanceCount);
     Build& top = builds.emplace_back();
     top.geometry = vk::AccelerationStructureGeometryKHR{
         .geometryType = vk::GeometryTypeKHR::eInstances,

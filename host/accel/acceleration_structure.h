@@ -6,6 +6,7 @@
 #include "vk/buffer.h"
 
 #include <span>
+#include <vector>
 
 namespace whitted {
 
@@ -21,12 +22,32 @@ struct AccelerationStructure {
 // point box, which the shader skips); a TLAS with the one
 // or two instances. Built on the device (vkCmdBuildAccelerationStructuresKHR);
 // the build inputs and scratch memory are freed when done.
-struct SceneAccelerationStructures {
-    AccelerationStructure triangles, boxes, top;
-    double buildSeconds = 0;
-    uint64_t bytes() const { return triangles.storage.size + boxes.storage.size + top.storage.size; }
+//
+// Instances (shaders/instance.glsl): each prototype's triangles (its range
+// of `primitives`, after the bounded ones) a BLAS of their own, and each
+// instance a TLAS instance of it with its worldFromObject transform and
+// custom index 1 + its index (0: the scene's own BLASes). The instances'
+// stand-ins among `bounded` are left out of the scene's own BLASes (as
+// inactive stand-ins, as another shape's are).
+struct SceneInstances {
+    std::span<const gpu::Primitive> primitives;      // the whole primitive array
+    std::span<const gpu::InstanceRecord> records;    // firstPrimitive, worldFromObject
+    std::span<const glm::uvec2> prototypeRanges;     // first primitive and count of each prototype
+    std::span<const uint32_t> instancePrototypes;    // each instance's prototype
 };
 
-SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std::span<const gpu::Primitive> bounded);
+struct SceneAccelerationStructures {
+    AccelerationStructure triangles, boxes, top;
+    std::vector<AccelerationStructure> prototypes;
+    double buildSeconds = 0;
+    uint64_t bytes() const {
+        uint64_t b = triangles.storage.size + boxes.storage.size + top.storage.size;
+        for (const AccelerationStructure& p : prototypes) b += p.storage.size;
+        return b;
+    }
+};
+
+SceneAccelerationStructures buildAccelerationStructures(VulkanContext& ctx, std::span<const gpu::Primitive> bounded,
+                                                        const SceneInstances& instances = {});
 
 }  // namespace whitted

@@ -33,6 +33,25 @@ void appendChildMaterials(const Csg& csg, size_t object, nlohmann::ordered_json&
     }
 }
 
+// Instance i is object objects.size() + i, naming its prototype; the
+// materials follow render/gpu_instances.h: each prototype object's, then
+// each instance's own.
+void appendInstances(const Scene& scene, nlohmann::ordered_json& objects, nlohmann::ordered_json& materials) {
+    for (const Prototype& p : scene.prototypes)
+        for (const Object& o : p.objects)
+            materials.push_back(
+                {{"id", materials.size()}, {"name", o.name}, {"prototype", p.name}, {"line", o.sourceLine}});
+    for (size_t i = 0; i < scene.instances.size(); ++i) {
+        const Instance& instance = scene.instances[i];
+        size_t id = scene.objects.size() + i;
+        objects.push_back({{"id", id}, {"name", instance.name}, {"shape", "instance"},
+                           {"prototype", scene.prototypes[instance.prototype].name}, {"line", instance.sourceLine}});
+        if (instance.material)
+            materials.push_back(
+                {{"id", materials.size()}, {"name", instance.name}, {"object", id}, {"line", instance.sourceLine}});
+    }
+}
+
 }  // namespace
 
 nlohmann::ordered_json maskLegend(const Scene& scene) {
@@ -46,6 +65,7 @@ nlohmann::ordered_json maskLegend(const Scene& scene) {
     }
     for (size_t k = 0; k < scene.objects.size(); ++k)
         if (const Csg* csg = std::get_if<Csg>(&scene.objects[k].shape)) appendChildMaterials(*csg, k, materials);
+    appendInstances(scene, objects, materials);
     return {{"background", 0xffffffffu}, {"objects", objects}, {"materials", materials}};
 }
 

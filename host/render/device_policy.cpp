@@ -137,6 +137,8 @@ Specialization specializationFor(const GpuScene& scene) {
         if (p.shape == gpu::kShapeTriangle && gpu::triangleSmooth(p))
             constants[5] |= gpu::kFeatureSmoothTriangles;
     }
+    // With instances, the prototypes' shapes are tested in the same walk.
+    if (!scene.instances.empty()) constants[0] |= scene.prototypeShapes;
     return withShading(constants, scene);
 }
 

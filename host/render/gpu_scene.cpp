@@ -1,5 +1,7 @@
 #include "render/gpu_scene.h"
 
+#include "render/gpu_instances.h"
+
 #include "display_types.h"  // DisplayParams, laid out here with the others
 #include "shapes/shapes.h"
 #include "tracer_types.h"
@@ -60,7 +62,10 @@ static_assert(sizeof(gpu::EnvironmentParams) == 80 && offsetof(gpu::EnvironmentP
               offsetof(gpu::EnvironmentParams, shadowSamples) == 56 &&
               offsetof(gpu::EnvironmentParams, distributionAddress) == 64 &&
               offsetof(gpu::EnvironmentParams, imageSize) == 72);
-static_assert(sizeof(gpu::FrameParams) == 288 && offsetof(gpu::FrameParams, eye) == 0 &&
+static_assert(sizeof(gpu::InstanceRecord) == 112 && offsetof(gpu::InstanceRecord, worldFromObject1) == 16 &&
+              offsetof(gpu::InstanceRecord, objectFromWorld0) == 48 && offsetof(gpu::InstanceRecord, rootNode) == 96 &&
+              offsetof(gpu::InstanceRecord, object) == 100 && offsetof(gpu::InstanceRecord, material) == 104);
+static_assert(sizeof(gpu::FrameParams) == 304 && offsetof(gpu::FrameParams, eye) == 0 &&
               offsetof(gpu::FrameParams, projection) == 12 &&
               offsetof(gpu::FrameParams, forward) == 16 && offsetof(gpu::FrameParams, apertureRadius) == 28 &&
               offsetof(gpu::FrameParams, right) == 32 && offsetof(gpu::FrameParams, focusDistance) == 44 &&
@@ -83,7 +88,7 @@ static_assert(sizeof(gpu::FrameParams) == 288 && offsetof(gpu::FrameParams, eye)
               offsetof(gpu::FrameParams, pixelListAddress) == 184 &&
               offsetof(gpu::FrameParams, guideAddress) == 192 &&
               offsetof(gpu::FrameParams, sampleStatsAddress) == 200 &&
-              offsetof(gpu::FrameParams, environment) == 208);
+              offsetof(gpu::FrameParams, environment) == 208 && offsetof(gpu::FrameParams, instanceAddress) == 288);
 static_assert(sizeof(gpu::TileParams) == 80 && offsetof(gpu::TileParams, tileOrigin) == 0 &&
               offsetof(gpu::TileParams, tileSize) == 8 && offsetof(gpu::TileParams, firstSample) == 16 &&
               offsetof(gpu::TileParams, sampleCount) == 20 && offsetof(gpu::TileParams, patternSize) == 24 &&
@@ -159,6 +164,8 @@ gpu::Light packLight(const Light& l) {
             .v = glm::vec3(l.v)};
 }
 
+}  // namespace
+
 // Whether a mesh object needs per-triangle surface attributes.
 bool needsAttributes(const Object& object) {
     const Mesh* mesh = std::get_if<Mesh>(&object.shape);
@@ -179,6 +186,17 @@ gpu::SurfaceAttributes surfaceAttributes(const Mesh& mesh, size_t i) {
     }
     return at;
 }
+
+// Pads a primitive's bounds by a few float ulps: the shader intersects
+// float-rounded shapes.
+Aabb padded(Aabb b) {
+    glm::vec3 pad = 1e-6f * (glm::abs(b.min) + glm::abs(b.max)) + 1e-30f;
+    b.min -= pad;
+    b.max += pad;
+    return b;
+}
+
+namespace {
 
 // items[k] = old items[source[k]] for every k, following the permutation's
 // cycles (source is left as the identity).
@@ -231,15 +249,6 @@ struct GeometryHash {
         add(v.data(), v.size() * sizeof(T));
     }
 };
-
-// Pads a primitive's bounds by a few float ulps: the shader intersects
-// float-rounded shapes.
-Aabb padded(Aabb b) {
-    glm::vec3 pad = 1e-6f * (glm::abs(b.min) + glm::abs(b.max)) + 1e-30f;
-    b.min -= pad;
-    b.max += pad;
-    return b;
-}
 
 // A mesh object's part (its own tree, packed triangles and attributes),
 // found by its geometry's hash or built now; null when the object is not
@@ -346,7 +355,8 @@ namespace {
 // range among the gathered ones.
 struct PartRange {
     uint32_t first, count;
-    const BvhPartCache::Entry* part;
+    const WideBvh* tree;
+    bool reused;  // taken from the cache, built by an earlier pack
 };
 
 // Every object's primitives in the objects' order, before the BVH orders
@@ -361,6 +371,7 @@ struct GatheredPrimitives {
     CsgArrays csg;
     std::vector<uint32_t> leafInObject;  // csg.leaves' share of primitiveInObject
     std::vector<PartRange> partRanges;
+    bool attributes = false;   // surface attributes are packed (some textured mesh needs them)
     size_t partTriangles = 0;  // the triangles of the parts this pack uses
     uint64_t partsBuilt = 0;   // those of the parts it built
     double partSeconds = 0;    // finding and building the parts
@@ -377,7 +388,7 @@ void appendPart(const BvhPartCache::Entry& part, uint32_t objectIndex, bool attr
         out.primitives[k].material = objectIndex;
         gpu::setPrimitiveObject(out.primitives[k], objectIndex);
     }
-    out.partRanges.push_back({uint32_t(first), uint32_t(part.primitives.size()), &part});
+    out.partRanges.push_back({uint32_t(first), uint32_t(part.primitives.size()), &part.tree, false});
     g.primitiveInObject.insert(g.primitiveInObject.end(), part.meshOrder.begin(), part.meshOrder.end());
     if (!attributes) return;
     if (part.attributes) g.attributes.insert(g.attributes.end(), part.surface.begin(), part.surface.end());
@@ -397,7 +408,11 @@ GatheredPrimitives gatherPrimitives(const Scene& scene, const RenderSettings& se
     out.primitives.reserve(count);
     out.bounds.reserve(count);
     out.csg.firstMaterial = uint32_t(scene.objects.size());
-    bool attributes = std::any_of(scene.objects.begin(), scene.objects.end(), needsAttributes);
+    bool attributes = std::any_of(scene.objects.begin(), scene.objects.end(), needsAttributes) ||
+                      std::any_of(scene.prototypes.begin(), scene.prototypes.end(), [](const Prototype& p) {
+                          return std::any_of(p.objects.begin(), p.objects.end(), needsAttributes);
+                      });
+    out.attributes = attributes;
     if (attributes) g.attributes.reserve(count);
     g.primitiveInObject.reserve(count);
     if (parts)
@@ -421,6 +436,7 @@ GatheredPrimitives gatherPrimitives(const Scene& scene, const RenderSettings& se
                                                           out.partsBuilt, out.partSeconds)
                                                 : nullptr) {
             appendPart(*part, objectIndex, attributes, out, g);
+            out.partRanges.back().reused = part->builtBy != parts->packs;
             continue;
         } else {
             appendPrimitives(object.shape, material, out.primitives, out.bounds);
@@ -436,6 +452,18 @@ GatheredPrimitives gatherPrimitives(const Scene& scene, const RenderSettings& se
         }
     }
     return out;
+}
+
+// The instances' stand-ins after the objects' primitives, each a part of
+// its own (a one-leaf tree) for the joined BVH.
+void appendInstances(const InstancePack& instances, GatheredPrimitives& out, GpuScene& g) {
+    for (size_t i = 0; i < instances.proxies.size(); ++i) {
+        out.partRanges.push_back({uint32_t(out.primitives.size()), 1u, &instances.leafTrees[i], false});
+        out.primitives.push_back(instances.proxies[i]);
+        g.primitiveInObject.push_back(0u);
+        if (out.attributes) g.attributes.push_back(gpu::SurfaceAttributes{});
+        ++out.partTriangles;
+    }
 }
 
 // The primitives outside the parts, split: bounded ones go into the BVH
@@ -495,14 +523,13 @@ std::vector<uint32_t> buildSceneBvh(BoundedSplit& split, const GatheredPrimitive
         }
         std::vector<Aabb>().swap(split.boundedBounds);
         for (const PartRange& r : gathered.partRanges) {
-            trees.push_back(&r.part->tree);
+            trees.push_back(r.tree);
             treeFirst.push_back(r.first);
         }
         g.bvhNodes = joinWide(trees, treeFirst, order, g.bvhStats);
         g.bvhStats.parts = uint32_t(gathered.partRanges.size());
-        g.bvhStats.partsReused =
-            uint32_t(std::count_if(gathered.partRanges.begin(), gathered.partRanges.end(),
-                                   [&](const PartRange& r) { return r.part->builtBy != parts->packs; }));
+        g.bvhStats.partsReused = uint32_t(std::count_if(gathered.partRanges.begin(), gathered.partRanges.end(),
+                                                        [](const PartRange& r) { return r.reused; }));
         g.bvhStats.primitivesBuilt = split.bounded.size() + gathered.partsBuilt;
     }
     if (parts) {
@@ -519,9 +546,10 @@ std::vector<uint32_t> buildSceneBvh(BoundedSplit& split, const GatheredPrimitive
 
 // The gathered primitives into g.primitives in their final order (the
 // BVH's leaves, then the list), moved in place without a second copy, with
-// their attributes and indices within their objects; the csg leaves after
-// every other primitive.
-void placePrimitives(GatheredPrimitives& gathered, std::vector<uint32_t> source, GpuScene& g) {
+// their attributes and indices within their objects; then the prototypes'
+// primitives; the csg leaves after every other primitive.
+void placePrimitives(GatheredPrimitives& gathered, std::vector<uint32_t> source, const PrototypePack& prototypes,
+                     GpuScene& g) {
     g.primitives = std::move(gathered.primitives);
     if (!g.attributes.empty()) {  // the same order as the primitives
         std::vector<uint32_t> sourceCopy = source;
@@ -532,6 +560,11 @@ void placePrimitives(GatheredPrimitives& gathered, std::vector<uint32_t> source,
         permuteInPlace(g.primitiveInObject, sourceCopy);
     }
     permuteInPlace(g.primitives, source);
+    g.primitives.insert(g.primitives.end(), prototypes.primitives.begin(), prototypes.primitives.end());
+    g.primitiveInObject.insert(g.primitiveInObject.end(), prototypes.primitiveInObject.begin(),
+                               prototypes.primitiveInObject.end());
+    if (gathered.attributes)
+        g.attributes.insert(g.attributes.end(), prototypes.attributes.begin(), prototypes.attributes.end());
     // Each csg primitive's a.w becomes the index of its first leaf there.
     uint32_t leafBase = uint32_t(g.primitives.size());
     for (gpu::Primitive& p : g.primitives)
@@ -580,6 +613,15 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
     g.environmentDistribution = std::move(shading.environment.distribution);
 
     GatheredPrimitives gathered = gatherPrimitives(scene, settings, parts, g);
+    // Instances: their prototypes' trees, and their stand-ins as parts of the scene's BVH.
+    uint32_t instanceMaterialBase = uint32_t(g.materials.size() - instanceMaterials(scene).size());
+    auto prototypesStart = std::chrono::steady_clock::now();
+    PrototypePack prototypes = packPrototypes(scene, instanceMaterialBase, gathered.attributes);
+    double prototypeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - prototypesStart).count();
+    size_t prototypeObjects = 0;
+    for (const Prototype& p : scene.prototypes) prototypeObjects += p.objects.size();
+    InstancePack instances = packInstances(scene, prototypes, instanceMaterialBase + uint32_t(prototypeObjects));
+    appendInstances(instances, gathered, g);
     BoundedSplit split = splitBounded(gathered, settings.useBvh);
     size_t treeCount = split.bounded.size() + gathered.partTriangles;
     if (treeCount > gpu::kBvhMaxPrimitives)
@@ -589,7 +631,28 @@ GpuScene packScene(const Scene& scene, const RenderSettings& settings, BvhPartCa
     std::vector<Aabb>().swap(gathered.bounds);
     std::vector<uint32_t> source = buildSceneBvh(split, gathered, parts, g);
     source.insert(source.end(), split.unbounded.begin(), split.unbounded.end());
-    placePrimitives(gathered, std::move(source), g);
+    placePrimitives(gathered, std::move(source), prototypes, g);
+    if (!instances.records.empty()) {
+        uint32_t nodeBase = uint32_t(g.bvhNodes.size());
+        uint32_t primitiveBase = uint32_t(treeCount + split.unbounded.size());
+        std::vector<gpu::BvhNode> nodes = prototypeNodes(prototypes, nodeBase, primitiveBase);
+        g.bvhNodes.insert(g.bvhNodes.end(), nodes.begin(), nodes.end());
+        for (uint32_t p = 0; p < prototypes.trees.size(); ++p)
+            g.prototypeRanges.push_back({primitiveBase + prototypes.firstPrimitive[p],
+                                         uint32_t(prototypes.trees[p].order.size())});
+        for (size_t i = 0; i < scene.instances.size(); ++i) {
+            gpu::InstanceRecord& r = instances.records[i];
+            r.rootNode += nodeBase;
+            r.firstPrimitive = g.prototypeRanges[scene.instances[i].prototype].x;
+            g.instancePrototypes.push_back(scene.instances[i].prototype);
+        }
+        g.instances = std::move(instances.records);
+        // The statistics count the prototypes' trees too (built once each, however many instances).
+        g.bvhStats.buildSeconds += prototypeSeconds;
+        g.bvhStats.wideNodeCount += uint32_t(nodes.size());
+        g.bvhStats.primitivesBuilt += prototypes.primitives.size();
+        g.prototypeShapes = prototypes.shapes;
+    }
     packFrameParams(scene, settings, treeCount, split.unbounded.size(), g);
     g.params.environment = shading.environment.params;
     if (settings.transparentBackground) g.params.environment.visible = 0u;
@@ -613,6 +676,7 @@ GpuShading packShading(const Scene& scene) {
         if (const Csg* c = std::get_if<Csg>(&object.shape)) packCsg(*c, material, csg);
     }
     for (const Material& m : csg.materials) g.materials.push_back(packMaterial(m, g.textures));
+    for (const Material& m : instanceMaterials(scene)) g.materials.push_back(packMaterial(m, g.textures));
     for (const Light& light : scene.lights) g.lights.push_back(packLight(light));
     g.environment = packEnvironment(scene, g.textures);
     return g;
@@ -628,9 +692,19 @@ SceneArrayCounts countSceneArrays(const Scene& scene) {
             childMaterials += csgOwnMaterialCount(*csg);
         }
     }
-    counts.bvhNodes = std::max<uint64_t>(counts.primitives, 2) - 1;  // collapseToWide's bound
-    counts.primitives += leaves;
-    counts.materials = scene.objects.size() + childMaterials;
+    // Instances: a stand-in each in the scene's tree; each prototype's
+    // primitives once, under a tree of its own.
+    uint64_t prototypePrimitives = 0, prototypeNodes = 0;
+    for (const Prototype& prototype : scene.prototypes) {
+        uint64_t n = 0;
+        for (const Object& object : prototype.objects) n += primitiveCount(object.shape);
+        prototypePrimitives += n;
+        prototypeNodes += std::max<uint64_t>(n, 2) - 1;
+    }
+    counts.primitives += scene.instances.size();
+    counts.bvhNodes = std::max<uint64_t>(counts.primitives, 2) - 1 + prototypeNodes;  // collapseToWide's bound
+    counts.primitives += leaves + prototypePrimitives;
+    counts.materials = scene.objects.size() + childMaterials + instanceMaterials(scene).size();
     counts.lights = scene.lights.size();
     return counts;
 }

@@ -34,6 +34,13 @@ struct GpuScene {
     std::vector<std::shared_ptr<const TextureData>> textures;
     // An image environment's importance-sampling distribution (FrameParams.environment), else empty.
     std::vector<float> environmentDistribution;
+    // The instances (render/gpu_instances.h): empty without; then the
+    // prototypes' nodes follow the scene's in bvhNodes, their primitives
+    // the list's in primitives, and prototypeShapes holds their shapes' bits.
+    std::vector<gpu::InstanceRecord> instances;
+    uint32_t prototypeShapes = 0;
+    std::vector<glm::uvec2> prototypeRanges;  // each prototype's first primitive and count (ray queries' BLASes)
+    std::vector<uint32_t> instancePrototypes;  // each instance's prototype
     BvhStats bvhStats;
     gpu::FrameParams params{};
     int width = 0;

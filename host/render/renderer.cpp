@@ -224,7 +224,8 @@ void Renderer::uploadScene() {
         // The device's structures over the bounded primitives replace the
         // BVH, whose nodes the shader variant never reads.
         accelerationStructures_ = buildAccelerationStructures(
-            ctx_, std::span(scene_.primitives).first(scene_.params.firstListPrimitive));
+            ctx_, std::span(scene_.primitives).first(scene_.params.firstListPrimitive),
+            {scene_.primitives, scene_.instances, scene_.prototypeRanges, scene_.instancePrototypes});
         deviceBytes_ += accelerationStructures_.bytes();
         std::vector<gpu::BvhNode>().swap(scene_.bvhNodes);
     }
@@ -274,6 +275,13 @@ void Renderer::uploadScene() {
         attributes_ = {};
     }
     scene_.params.attributeAddress = addressWords(attributes_);  // 0 when not made
+    if (!scene_.instances.empty()) {
+        upload(instances_, scene_.instances, "instances");
+        deviceBytes_ += instances_.size;
+    } else {
+        instances_ = {};
+    }
+    scene_.params.instanceAddress = addressWords(instances_);  // 0 when not made
     std::memcpy(params_.mapped, &scene_.params, sizeof(gpu::FrameParams));
     writeDescriptors();
     uploadSeconds_ = secondsSince(start);

@@ -121,6 +121,7 @@ private:
     MirroredBuffer counters_;  // gpu::RayCounters
     Buffer csgNodes_;  // the csg objects' programs (FrameParams.csgNodeAddress)
     Buffer environmentDistribution_;  // an image environment's (FrameParams.environment.distributionAddress)
+    Buffer instances_;      // gpu::InstanceRecord per instance (FrameParams.instanceAddress), when the scene has any
     Buffer attributes_;     // gpu::SurfaceAttributes per primitive, when a textured mesh needs them
     TextureSet textures_;   // the kBindingTextures array
     // What textures_ holds (kept alive, so a pointer compares as the texture),

@@ -108,7 +108,10 @@ Placement readPlacement(const Diagnostics& diag, ElementReader& properties, cons
     if (const XMLElement* e = properties.optional("matrix")) {
         for (const char* other : {"scale", "rotation"})
             if (const XMLElement* o = properties.optional(other))
-                diag.fail(laterOf(e, o), "<properties> has both <matrix> and " + tag(other) + "; a mesh takes one");
+                diag.fail(laterOf(e, o), tag(properties.element()->Name()) + " has both <matrix> and " + tag(other) +
+                                             (properties.element()->Name() == std::string_view("instance")
+                                                  ? "; an instance takes one"
+                                                  : "; a mesh takes one"));
         glm::dmat4 m = readMatrix(diag, e);
         placement.matrix = m;
         placement.identity = false;
@@ -135,6 +138,18 @@ Placement readPlacement(const Diagnostics& diag, ElementReader& properties, cons
     placement.normalLinear = r * glm::dmat3(1 / scale.x, 0, 0, 0, 1 / scale.y, 0, 0, 0, 1 / scale.z);
     return placement;
 }
+
+}  // namespace
+
+glm::dmat4 readInstanceTransform(const Diagnostics& diag, ElementReader& instance) {
+    const XMLElement* position = instance.optional("position");
+    Placement placement = readPlacement(diag, instance, position ? vector(diag, position) : glm::dvec3(0));
+    glm::dmat4 m(placement.linear);
+    m[3] = glm::dvec4(placement.offset, 1.0);
+    return m;
+}
+
+namespace {
 
 std::string outOfRange(const glm::dvec3& v) {
     std::array<char, 96> text{};

@@ -65,6 +65,11 @@ Mesh readMeshObject(const xml::Diagnostics& diag, xml::ElementReader& object, xm
                     const glm::dvec3& position, const std::filesystem::path& sceneFolder,
                     FileMaterials& fileMaterials, ModelFiles& modelFiles);
 
+// An <instance>'s placement (scenes/README.md "Instances"), from the
+// children of `instance`: <position>, then <matrix>, or <scale> and
+// <rotation>, as a mesh object's (a singular <matrix> refused).
+glm::dmat4 readInstanceTransform(const xml::Diagnostics& diag, xml::ElementReader& instance);
+
 // A model file's triangles grouped by their material, each group an
 // object with the scene's material but the file's base colour and
 // texture (the texture where the file has texture coordinates).

@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <memory>
@@ -279,6 +280,27 @@ struct Object {
     int sourceLine = 0;  // line of the <object> element, for messages
 };
 
+// Instancing (scenes/README.md "Instances"): a prototype is a group of mesh
+// and triangle objects in its own space, stored once and drawn only through
+// its instances; each instance places it by an affine transform
+// (world = worldFromObject * object), optionally with a material of its own
+// that replaces every prototype object's. The renderer walks each
+// prototype's tree in object space (the two-level BVH of Wald, Boulos and
+// Shirley 2007; shaders/instance.glsl).
+struct Prototype {
+    std::string name{};
+    std::vector<Object> objects{};  // meshes and triangles, prototype space
+    int sourceLine = 0;
+};
+
+struct Instance {
+    uint32_t prototype = 0;  // index into Scene::prototypes
+    glm::dmat4 worldFromObject{1.0};  // affine, invertible
+    std::optional<Material> material{};
+    std::string name{};
+    int sourceLine = 0;
+};
+
 struct Scene {
     std::filesystem::path sourcePath;
     Camera camera;
@@ -286,6 +308,8 @@ struct Scene {
     std::optional<Environment> environment;  // none: a ray that leaves the scene sees black
     std::vector<Light> lights;
     std::vector<Object> objects;
+    std::vector<Prototype> prototypes;
+    std::vector<Instance> instances;  // drawn after the objects: instance i has object id objects.size() + i
     std::vector<std::string> warnings;  // degenerate but legal input
     // The lines a summary warning stands for (each glTF node's degenerate
     // triangles): shown by `whitted render --verbose` and kept in the render

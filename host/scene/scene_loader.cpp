@@ -111,13 +111,18 @@ public:
             if (const XMLText* text = node->ToText(); text && !trimmed(text->Value()).empty())
                 diag_.fail(text, "unexpected text " + inQuotes(trimmed(text->Value())) + " outside <scene>");
 
-        ElementReader s(diag_, root, {{"camera"}, {"lights"}, {"objects"}, {"ambient_light"}, {"environment"}});
+        ElementReader s(diag_, root, {{"camera"}, {"lights"}, {"objects"}, {"ambient_light"}, {"environment"},
+                                      {"prototypes"}, {"instances"}});
         scene_.camera = readCamera(s.required("camera"));
         // The environment before the lights: one that gives light makes a scene without lights no mistake.
         if (const XMLElement* environment = s.optional("environment"))
             scene_.environment = readEnvironment(diag_, environment, scene_.sourcePath.parent_path());
         readLights(s.required("lights"));
         readObjects(s.required("objects"));
+        if (const XMLElement* prototypes = s.optional("prototypes")) readPrototypes(prototypes);
+        if (const XMLElement* instances = s.optional("instances")) readInstances(instances);
+        if (scene_.objects.empty() && scene_.instances.empty())
+            diag_.warn(s.element()->FirstChildElement("objects"), "scene has no objects; the image will be black");
         if (const XMLElement* ambient = s.optional("ambient_light"))
             scene_.ambientLight = colour(diag_, ambient, kNonNegative);
     }
@@ -342,7 +347,75 @@ private:
         ElementReader objects(diag_, e, {{"object", true}});
         for (const XMLElement* object : objects.all("object"))
             for (Object& o : readObject(object)) scene_.objects.push_back(std::move(o));
-        if (scene_.objects.empty()) diag_.warn(e, "scene has no objects; the image will be black");
+    }
+
+    // ---- Instances (scenes/README.md "Instances") ----
+
+    // <prototypes>: each <prototype> a <name> and the mesh and triangle
+    // <objects> it holds, in its own space; drawn only through instances.
+    void readPrototypes(const XMLElement* e) {
+        ElementReader prototypes(diag_, e, {{"prototype", true}});
+        for (const XMLElement* element : prototypes.all("prototype")) {
+            ElementReader p(diag_, element, {{"name"}, {"objects"}});
+            Prototype prototype;
+            prototype.sourceLine = element->GetLineNum();
+            const XMLElement* name = p.required("name");
+            prototype.name = valueText(diag_, name);
+            if (prototype.name.empty()) diag_.fail(name, "<name> of a <prototype> is empty");
+            for (const Prototype& other : scene_.prototypes)
+                if (other.name == prototype.name)
+                    diag_.fail(name, "a second <prototype> named " + inQuotes(prototype.name) + " (the first on line " +
+                                         std::to_string(other.sourceLine) + ")");
+            ElementReader objects(diag_, p.required("objects"), {{"object", true}});
+            if (objects.all("object").empty())
+                diag_.fail(objects.element(), "<objects> of a <prototype> holds no <object>; it needs at least one");
+            for (const XMLElement* object : objects.all("object")) {
+                for (Object& o : readObject(object)) {
+                    if (!std::holds_alternative<Mesh>(o.shape) && !std::holds_alternative<Triangle>(o.shape))
+                        diag_.fail(object, "a <prototype> holds meshes and triangles only, got type " +
+                                               valueText(diag_, object->FirstChildElement("properties")
+                                                                    ->FirstChildElement("type")));
+                    prototype.objects.push_back(std::move(o));
+                }
+            }
+            scene_.prototypes.push_back(std::move(prototype));
+        }
+    }
+
+    // <instances>: each <instance> names its <prototype>, places it
+    // (<position>, <matrix> or <scale> and <rotation>) and may give a
+    // <name> and a material of its own (<properties> with the material
+    // elements, <diffuse_color> and <specular_color> beside it).
+    void readInstances(const XMLElement* e) {
+        ElementReader instances(diag_, e, {{"instance", true}});
+        for (const XMLElement* element : instances.all("instance")) {
+            ElementReader r(diag_, element,
+                            {{"prototype"}, {"name"}, {"position"}, {"matrix"}, {"scale"}, {"rotation"},
+                             {"diffuse_color"}, {"specular_color"}, {"properties"}});
+            Instance instance;
+            instance.sourceLine = element->GetLineNum();
+            const XMLElement* prototype = r.required("prototype");
+            std::string name = valueText(diag_, prototype);
+            auto found = std::find_if(scene_.prototypes.begin(), scene_.prototypes.end(),
+                                      [&](const Prototype& p) { return p.name == name; });
+            if (found == scene_.prototypes.end())
+                diag_.fail(prototype, "<prototype> " + inQuotes(name) + " is not one of the scene's <prototypes>");
+            instance.prototype = uint32_t(found - scene_.prototypes.begin());
+            if (const XMLElement* n = r.optional("name")) instance.name = valueText(diag_, n);
+            instance.worldFromObject = readInstanceTransform(diag_, r);
+            if (const XMLElement* properties = r.optional("properties")) {
+                ElementReader p(diag_, properties, kPropertyRules);
+                instance.material = readMaterial(r, p);
+                if (const XMLElement* extra = p.firstUnused())
+                    diag_.fail(extra,
+                               tag(extra->Name()) + " does not apply to an <instance>; only material elements do");
+            } else if (const XMLElement* colour = r.optional("diffuse_color") ? r.optional("diffuse_color")
+                                                                               : r.optional("specular_color")) {
+                diag_.fail(colour,
+                           tag(colour->Name()) + " of an <instance> needs <properties> beside it (its own material)");
+            }
+            scene_.instances.push_back(std::move(instance));
+        }
     }
 
     // A top-level <object> (csg == nullptr), or a child of a csg object:

@@ -183,6 +183,14 @@ void writeTriangleVertices(XmlOut& x, const Triangle& t, const glm::dvec3& origi
     x.vector("vertex", t.v2 - origin);
 }
 
+// A 3x4 affine matrix's three rows of four, as <matrix> reads them.
+std::string matrixRows(const glm::dmat4& m) {
+    std::string rows;
+    for (int row = 0; row < 3; ++row)
+        for (int col = 0; col < 4; ++col) rows += (rows.empty() ? "" : col == 0 ? "  " : " ") + xmlNumber(m[col][row]);
+    return rows;
+}
+
 // One <object>: a top-level one (origin 0, its material written), or a csg
 // child, its position relative to the csg object's (origin) and its
 // material written only when it has its own.
@@ -262,13 +270,7 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
                 else
                     x.line("<file part=\"" + escapedXml(source->partName) + "\">" + fileText(source->path, places) +
                            "</file>");
-                if (source->matrix) {  // three rows of four
-                    std::string rows;
-                    for (int row = 0; row < 3; ++row)
-                        for (int col = 0; col < 4; ++col)
-                            rows += (rows.empty() ? "" : col == 0 ? "  " : " ") + xmlNumber((*source->matrix)[col][row]);
-                    x.value("matrix", rows);
-                }
+                if (source->matrix) x.value("matrix", matrixRows(*source->matrix));  // three rows of four
                 if (source->scale != glm::dvec3(1)) x.vector("scale", source->scale);
                 if (source->rotationDegrees != glm::dvec3(0)) x.vector("rotation", source->rotationDegrees);
             } else {
@@ -295,6 +297,40 @@ void writeObject(XmlOut& x, const Shape& shape, const Material& m, bool writeMat
         x.close("objects");
     }
     x.close("object");
+}
+
+// <prototypes> and <instances> (scenes/README.md "Instances"); an
+// instance's placement as its <matrix>.
+void writeInstancing(XmlOut& x, const Scene& scene, const FilePlaces& places) {
+    if (!scene.prototypes.empty()) {
+        x.open("prototypes");
+        for (const Prototype& p : scene.prototypes) {
+            x.open("prototype");
+            x.value("name", escapedXml(p.name));
+            x.open("objects");
+            for (const Object& o : p.objects) writeObject(x, o, places);
+            x.close("objects");
+            x.close("prototype");
+        }
+        x.close("prototypes");
+    }
+    if (scene.instances.empty()) return;
+    x.open("instances");
+    for (const Instance& instance : scene.instances) {
+        x.open("instance");
+        x.value("prototype", escapedXml(scene.prototypes[instance.prototype].name));
+        if (!instance.name.empty()) x.value("name", escapedXml(instance.name));
+        x.value("matrix", matrixRows(instance.worldFromObject));
+        if (const Material* m = instance.material ? &*instance.material : nullptr) {
+            x.colour("diffuse_color", m->diffuseColor);
+            x.colour("specular_color", m->specularColor);
+            x.open("properties");
+            writeMaterialProperties(x, *m, places);
+            x.close("properties");
+        }
+        x.close("instance");
+    }
+    x.close("instances");
 }
 
 }  // namespace
@@ -328,6 +364,7 @@ std::string sceneXml(const Scene& scene, const std::filesystem::path& destinatio
     x.open("objects");
     for (const Object& o : scene.objects) writeObject(x, o, places);
     x.close("objects");
+    writeInstancing(x, scene, places);
     x.close("scene");
     return x.str();
 }

@@ -101,6 +101,19 @@ inline void checkScene(const Scene& scene) {
             },
             o.shape);
     }
+    // Instances (scenes/README.md "Instances"): prototypes of meshes and
+    // triangles only, none empty; each instance names one, its transform
+    // finite and invertible.
+    for (const Prototype& p : scene.prototypes) {
+        check(!p.objects.empty());
+        for (const Object& o : p.objects)
+            check(std::holds_alternative<Mesh>(o.shape) || std::holds_alternative<Triangle>(o.shape));
+    }
+    for (const Instance& instance : scene.instances) {
+        check(instance.prototype < scene.prototypes.size());
+        for (int col = 0; col < 4; ++col) checkVector(glm::dvec3(instance.worldFromObject[col]));
+        check(glm::determinant(glm::dmat3(instance.worldFromObject)) != 0);
+    }
 }
 
 }  // namespace whitted::fuzz
