@@ -516,7 +516,7 @@ std::vector<BadCase> xmlCases() {
          "t.xml:2: duplicate <camera> in <scene>"},
         {"UnknownTopLevel", "<scene>" + camera + "<lights/><objects/>\n<lamps/></scene>",
          "t.xml:2: unknown element <lamps> in <scene>; expected one of: camera, lights, objects, ambient_light, "
-         "prototypes, instances"},
+         "environment, prototypes, instances"},
         {"UnknownInLights", "<scene>" + camera + "<lights>\n<lamp/></lights><objects/></scene>",
          "t.xml:2: unknown element <lamp> in <lights>; expected light"},
         {"UnknownInObjects", sceneWith("<objet/>"), "t.xml:8: unknown element <objet> in <objects>; expected object"},
