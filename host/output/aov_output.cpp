@@ -236,7 +236,7 @@ void bandValues(const AovSpec& spec, const BandView& band, int channels, bool is
 }  // namespace
 
 // The depth of a pixel that hit nothing in a float file: infinitely far where an environment is seen there,
-// else 0 (as before environments).
+// else 0, so that the files of scenes without an environment keep their values.
 static float noHitDepth(bool environment) {
     return environment ? std::numeric_limits<float>::infinity() : 0.0f;
 }

@@ -433,10 +433,7 @@ public:
                     PixelSink sink(result->pixels);
                     result->stats = renderer_->renderTo(sink, between);
                     result->stats.layout = renderer_->layout();
-                    if (ctx_->validationMessageCount() != messagesBefore)
-                        throw std::runtime_error("the Vulkan validation layer reported " +
-                                                 std::to_string(ctx_->validationMessageCount() - messagesBefore) +
-                                                 " message(s) during this render");
+                    throwIfValidationReported(messagesBefore, "this render");
                     results.push_back(std::move(result));
                 }
             } catch (const DeviceFailure& e) {
@@ -489,10 +486,7 @@ public:
                 if (!caster_) caster_ = std::make_unique<RayCaster>(*ctx_);
                 uint32_t messagesBefore = ctx_->validationMessageCount();
                 hits = caster_->cast(*renderer_, rays);
-                if (ctx_->validationMessageCount() != messagesBefore)
-                    throw std::runtime_error("the Vulkan validation layer reported " +
-                                             std::to_string(ctx_->validationMessageCount() - messagesBefore) +
-                                             " message(s) during cast_rays");
+                throwIfValidationReported(messagesBefore, "cast_rays");
             } catch (const DeviceFailure& e) {
                 deviceFailed(e, copy);
             }
@@ -546,10 +540,7 @@ public:
                 upload(copy, versions, id, s);
                 if (!recorder_) recorder_ = std::make_unique<RayTreeRecorder>(*ctx_);
                 text = rayTreeJson(recorder_->trace(*renderer_, x, y), copy, objectIds);
-                if (ctx_->validationMessageCount() != messagesBefore)
-                    throw std::runtime_error("the Vulkan validation layer reported " +
-                                             std::to_string(ctx_->validationMessageCount() - messagesBefore) +
-                                             " message(s) during this trace");
+                throwIfValidationReported(messagesBefore, "this trace");
             } catch (const DeviceFailure& e) {
                 deviceFailed(e, copy);
             }
@@ -579,6 +570,14 @@ public:
 
 private:
     // The device, opened again after one was lost.
+    // Validation-layer messages since `before` fail the call (as `whitted render --validate` fails).
+    void throwIfValidationReported(uint32_t before, const char* during) const {
+        uint32_t now = ctx_->validationMessageCount();
+        if (now != before)
+            throw std::runtime_error("the Vulkan validation layer reported " + std::to_string(now - before) +
+                                     " message(s) during " + during);
+    }
+
     void openDevice() {
         if (!ctx_)
             ctx_ = std::make_unique<VulkanContext>(
